@@ -1,0 +1,22 @@
+# Every dependency comes from a Debian 12 package (.ci/install-deps installs them).
+# They are gathered behind one interface target, clr_deps, with SYSTEM includes so that -Werror never
+# fires inside a third-party header.
+find_package(OpenCL REQUIRED)
+find_package(embree 3 REQUIRED)
+find_package(OpenEXR REQUIRED)
+find_package(glm REQUIRED)
+find_package(CLBlast REQUIRED)
+find_package(pugixml REQUIRED)
+find_package(tinyobjloader REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(Threads REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
+
+add_library(clr_deps INTERFACE)
+target_link_libraries(clr_deps INTERFACE OpenCL::OpenCL embree OpenEXR::OpenEXR glm::glm clblast pugixml::pugixml
+                                         tinyobjloader::tinyobjloader CLI11::CLI11 nlohmann_json::nlohmann_json
+                                         PkgConfig::STB Threads::Threads)
+# GLM: radians everywhere, explicit constructors keep float/double mixing visible.
+target_compile_definitions(clr_deps INTERFACE GLM_FORCE_RADIANS GLM_FORCE_XYZW_ONLY)

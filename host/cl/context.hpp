@@ -1,0 +1,51 @@
+#pragma once
+// A device's context and in-order queue, its program cache and its memory accounting.
+// Everything else (buffers, programs, kernels) is created through a Context and must not outlive it.
+#include <CL/cl.h>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cl/device.hpp"
+#include "cl/handle.hpp"
+#include "cl/program.hpp"
+
+namespace clr::cl {
+
+class Context {
+ public:
+  explicit Context(DeviceInfo device);
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  const DeviceInfo& device() const { return device_; }
+  cl_context get() const { return context_.get(); }
+  cl_command_queue queue() const { return queue_.get(); }
+  void finish() const;
+
+  // The program made of these kernel files (concatenated in order) built with these options; built once per
+  // (files, options) and cached for the life of the context. Build failures throw with the build log.
+  const Program& program(const std::vector<std::string>& files, const std::string& options = "");
+  std::size_t programs_built() const { return programs_built_; }
+
+  // Device-memory accounting of Buffers created on this context (DESIGN.md: report peak memory of a step).
+  void on_alloc(std::uint64_t bytes);
+  void on_free(std::uint64_t bytes) { bytes_in_use_ -= bytes; }
+  std::uint64_t bytes_in_use() const { return bytes_in_use_; }
+  std::uint64_t peak_bytes() const { return peak_bytes_; }
+  void reset_peak() { peak_bytes_ = bytes_in_use_; }
+
+ private:
+  DeviceInfo device_;
+  ContextHandle context_;
+  QueueHandle queue_;
+  std::map<std::string, std::unique_ptr<Program>> programs_;
+  std::size_t programs_built_ = 0;
+  std::uint64_t bytes_in_use_ = 0;
+  std::uint64_t peak_bytes_ = 0;
+};
+
+}  // namespace clr::cl

@@ -1,0 +1,147 @@
+#include "cl/device.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cstdlib>
+
+#include "cl/error.hpp"
+#include "common/error.hpp"
+
+namespace clr::cl {
+namespace {
+
+std::string platform_string(cl_platform_id p, cl_platform_info what) {
+  std::size_t n = 0;
+  CLR_CL_CHECK(clGetPlatformInfo(p, what, 0, nullptr, &n));
+  std::string s(n, '\0');
+  CLR_CL_CHECK(clGetPlatformInfo(p, what, n, s.data(), nullptr));
+  return s.c_str();  // drop the terminating NUL the size includes
+}
+
+std::string device_string(cl_device_id d, cl_device_info what) {
+  std::size_t n = 0;
+  CLR_CL_CHECK(clGetDeviceInfo(d, what, 0, nullptr, &n));
+  std::string s(n, '\0');
+  CLR_CL_CHECK(clGetDeviceInfo(d, what, n, s.data(), nullptr));
+  return s.c_str();
+}
+
+template <typename T>
+T device_value(cl_device_id d, cl_device_info what) {
+  T v{};
+  CLR_CL_CHECK(clGetDeviceInfo(d, what, sizeof(T), &v, nullptr));
+  return v;
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s;
+}
+
+std::string type_name(cl_device_type t) {
+  if (t & CL_DEVICE_TYPE_GPU) return "gpu";
+  if (t & CL_DEVICE_TYPE_CPU) return "cpu";
+  if (t & CL_DEVICE_TYPE_ACCELERATOR) return "accelerator";
+  return "other";
+}
+
+bool has_extension(const std::string& extensions, const std::string& ext) {
+  return (" " + extensions + " ").find(" " + ext + " ") != std::string::npos;
+}
+
+std::optional<std::pair<unsigned, unsigned>> parse_indices(const std::string& spec) {
+  const auto colon = spec.find(':');
+  if (colon == std::string::npos) return std::nullopt;
+  unsigned p = 0, d = 0;
+  const char* b = spec.data();
+  const char* e = b + spec.size();
+  auto r1 = std::from_chars(b, b + colon, p);
+  auto r2 = std::from_chars(b + colon + 1, e, d);
+  if (r1.ec != std::errc() || r1.ptr != b + colon || r2.ec != std::errc() || r2.ptr != e) return std::nullopt;
+  return std::pair{p, d};
+}
+
+}  // namespace
+
+std::string DeviceInfo::describe() const { return spec() + "  " + platform_name + " / " + name + " (" + type + ")"; }
+
+std::vector<DeviceInfo> list_devices() {
+  cl_uint np = 0;
+  const cl_int status = clGetPlatformIDs(0, nullptr, &np);
+  if (status == -1001 /* CL_PLATFORM_NOT_FOUND_KHR: the ICD loader found no driver */ || np == 0) return {};
+  CLR_CL_CHECK(status);
+  std::vector<cl_platform_id> platforms(np);
+  CLR_CL_CHECK(clGetPlatformIDs(np, platforms.data(), nullptr));
+
+  std::vector<DeviceInfo> out;
+  for (unsigned pi = 0; pi < np; ++pi) {
+    cl_uint nd = 0;
+    if (clGetDeviceIDs(platforms[pi], CL_DEVICE_TYPE_ALL, 0, nullptr, &nd) != CL_SUCCESS || nd == 0) continue;
+    std::vector<cl_device_id> devices(nd);
+    CLR_CL_CHECK(clGetDeviceIDs(platforms[pi], CL_DEVICE_TYPE_ALL, nd, devices.data(), nullptr));
+    for (unsigned di = 0; di < nd; ++di) {
+      const cl_device_id d = devices[di];
+      DeviceInfo info;
+      info.platform_index = pi;
+      info.device_index = di;
+      info.platform = platforms[pi];
+      info.device = d;
+      info.platform_name = platform_string(platforms[pi], CL_PLATFORM_NAME);
+      info.platform_vendor = platform_string(platforms[pi], CL_PLATFORM_VENDOR);
+      info.name = device_string(d, CL_DEVICE_NAME);
+      info.type = type_name(device_value<cl_device_type>(d, CL_DEVICE_TYPE));
+      info.compute_units = device_value<cl_uint>(d, CL_DEVICE_MAX_COMPUTE_UNITS);
+      info.global_mem_bytes = device_value<cl_ulong>(d, CL_DEVICE_GLOBAL_MEM_SIZE);
+      info.max_alloc_bytes = device_value<cl_ulong>(d, CL_DEVICE_MAX_MEM_ALLOC_SIZE);
+      info.max_work_group_size = device_value<std::size_t>(d, CL_DEVICE_MAX_WORK_GROUP_SIZE);
+      info.opencl_c_version = device_string(d, CL_DEVICE_OPENCL_C_VERSION);
+      const std::string ext = device_string(d, CL_DEVICE_EXTENSIONS);
+      info.float_atomics = has_extension(ext, "cl_ext_float_atomics");
+      info.fp16 = has_extension(ext, "cl_khr_fp16");
+      out.push_back(std::move(info));
+    }
+  }
+  return out;
+}
+
+DeviceInfo select_device(const std::vector<DeviceInfo>& devices, const std::string& requested) {
+  std::string spec = requested;
+  std::string origin = "--device";
+  if (spec.empty()) {
+    if (const char* env = std::getenv("CLRADIOSITY_DEVICE"); env && *env) {
+      spec = env;
+      origin = "CLRADIOSITY_DEVICE";
+    }
+  }
+
+  auto fail = [&](const std::string& why) -> DeviceInfo {
+    std::string msg = why + "; available:";
+    if (devices.empty()) msg += " none (no OpenCL platform found; install pocl-opencl-icd or a GPU driver)";
+    for (const auto& d : devices) msg += "  [" + d.describe() + "]";
+    throw InputError(msg);
+  };
+  if (devices.empty()) return fail(spec.empty() ? "no OpenCL device" : origin + " '" + spec + "' matches no device");
+
+  if (spec.empty()) {
+    for (const char* type : {"gpu", "cpu"})
+      for (const auto& d : devices)
+        if (d.type == type) return d;
+    return devices.front();
+  }
+  if (const auto idx = parse_indices(spec)) {
+    for (const auto& d : devices)
+      if (d.platform_index == idx->first && d.device_index == idx->second) return d;
+    return fail(origin + " '" + spec + "' names no device");
+  }
+  const std::string needle = lower(spec);
+  for (const auto& d : devices)
+    if (lower(d.platform_name + " " + d.platform_vendor + " " + d.name + " " + d.type).find(needle) !=
+        std::string::npos)
+      return d;
+  return fail(origin + " '" + spec + "' matches no device");
+}
+
+DeviceInfo select_device(const std::string& spec) { return select_device(list_devices(), spec); }
+
+}  // namespace clr::cl

@@ -1,0 +1,20 @@
+#pragma once
+// Each subcommand registers itself on the CLI11 app and returns the function that runs it after parsing.
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+
+namespace clr::cli {
+
+// A parsed subcommand and what runs it.
+struct Command {
+  CLI::App* app;
+  std::function<int()> run;
+};
+
+// Adds --device SPEC (DESIGN.md §4) to a computing command; CLRADIOSITY_DEVICE is its default.
+void add_device_option(CLI::App& cmd, std::string& spec);
+
+Command add_devices_command(CLI::App& app);
+
+}  // namespace clr::cli

@@ -1,0 +1,108 @@
+// Device enumeration and the --device SPEC rule. The selection rule is tested on made-up device lists, so it
+// runs everywhere; enumeration itself needs a real platform (PoCL in CI).
+#include "cl/device.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include "common/error.hpp"
+
+namespace clr::cl {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+DeviceInfo fake(unsigned p, unsigned d, std::string platform, std::string name, std::string type) {
+  DeviceInfo info;
+  info.platform_vendor = p == 0 ? "The pocl project" : "NVIDIA Corporation";
+  info.platform_index = p;
+  info.device_index = d;
+  info.platform_name = std::move(platform);
+  info.name = std::move(name);
+  info.type = std::move(type);
+  info.device = reinterpret_cast<cl_device_id>(std::uintptr_t(100 * p + d + 1));
+  return info;
+}
+
+class DeviceSpecTest : public ::testing::Test {
+ protected:
+  void SetUp() override { unsetenv("CLRADIOSITY_DEVICE"); }
+  void TearDown() override { unsetenv("CLRADIOSITY_DEVICE"); }
+  std::vector<DeviceInfo> devices = {fake(0, 0, "Portable Computing Language", "pthread-skylake", "cpu"),
+                                     fake(1, 0, "NVIDIA CUDA", "NVIDIA H100 80GB HBM3", "gpu"),
+                                     fake(1, 1, "NVIDIA CUDA", "NVIDIA A100", "gpu")};
+};
+
+TEST_F(DeviceSpecTest, DefaultPrefersFirstGpu) { EXPECT_EQ(select_device(devices, "").spec(), "1:0"); }
+
+TEST_F(DeviceSpecTest, DefaultFallsBackToCpu) {
+  devices.resize(1);
+  EXPECT_EQ(select_device(devices, "").spec(), "0:0");
+}
+
+TEST_F(DeviceSpecTest, IndicesSelectExactly) {
+  EXPECT_EQ(select_device(devices, "1:1").name, "NVIDIA A100");
+  EXPECT_EQ(select_device(devices, "0:0").type, "cpu");
+}
+
+TEST_F(DeviceSpecTest, SubstringMatches) {
+  EXPECT_EQ(select_device(devices, "portable").spec(), "0:0");
+  EXPECT_EQ(select_device(devices, "PoCL").spec(), "0:0") << "the vendor counts, not only the platform name";
+  EXPECT_EQ(select_device(devices, "nvidia").spec(), "1:0");
+  EXPECT_EQ(select_device(devices, "CPU").spec(), "0:0");
+  EXPECT_EQ(select_device(devices, "gpu").spec(), "1:0");
+  EXPECT_EQ(select_device(devices, "a100").spec(), "1:1");
+}
+
+TEST_F(DeviceSpecTest, EnvironmentIsTheDefaultAndFlagWins) {
+  setenv("CLRADIOSITY_DEVICE", "a100", 1);
+  EXPECT_EQ(select_device(devices, "").spec(), "1:1");
+  EXPECT_EQ(select_device(devices, "cpu").spec(), "0:0");
+}
+
+TEST_F(DeviceSpecTest, BadSpecsNameTheSpecAndListDevices) {
+  for (const std::string bad : {"nosuch", "2:0", "0:7", "1:", ":1", "0:0x"}) {
+    try {
+      select_device(devices, bad);
+      ADD_FAILURE() << "spec '" << bad << "' was accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), AllOf(HasSubstr("'" + bad + "'"), HasSubstr("available"), HasSubstr("1:1"),
+                                  HasSubstr("NVIDIA A100")));
+    }
+  }
+}
+
+TEST_F(DeviceSpecTest, BadEnvironmentSpecNamesTheVariable) {
+  setenv("CLRADIOSITY_DEVICE", "nosuch", 1);
+  EXPECT_THROW(
+      {
+        try {
+          select_device(devices, "");
+        } catch (const InputError& e) {
+          EXPECT_THAT(e.what(), HasSubstr("CLRADIOSITY_DEVICE"));
+          throw;
+        }
+      },
+      InputError);
+}
+
+TEST_F(DeviceSpecTest, NoDevicesIsAnInputError) { EXPECT_THROW(select_device({}, ""), InputError); }
+
+TEST(DeviceList, EnumeratesRealDevices) {
+  const auto devices = list_devices();
+  if (devices.empty()) GTEST_SKIP() << "no OpenCL platform on this machine";
+  for (const auto& d : devices) {
+    EXPECT_FALSE(d.name.empty());
+    EXPECT_GT(d.compute_units, 0u);
+    EXPECT_GT(d.max_alloc_bytes, 0u);
+    EXPECT_LE(d.max_alloc_bytes, d.global_mem_bytes);
+    EXPECT_THAT(d.opencl_c_version, HasSubstr("OpenCL C"));
+    EXPECT_EQ(select_device(devices, d.spec()).device, d.device);
+  }
+}
+
+}  // namespace
+}  // namespace clr::cl

@@ -1,0 +1,122 @@
+// Program cache, build-error reporting, the kernel-directory override and launch limits.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "cl/buffer.hpp"
+#include "cl/kernel_source.hpp"
+#include "common/error.hpp"
+#include "support/cl_fixture.hpp"
+
+namespace clr::test {
+namespace {
+
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+// Points CLRADIOSITY_KERNEL_DIR at a fresh folder for one test.
+class KernelDir {
+ public:
+  KernelDir() : dir_(fs::temp_directory_path() / ("clr_kernels_" + std::to_string(::getpid()))) {
+    fs::create_directories(dir_);
+    setenv("CLRADIOSITY_KERNEL_DIR", dir_.c_str(), 1);
+  }
+  ~KernelDir() {
+    unsetenv("CLRADIOSITY_KERNEL_DIR");
+    fs::remove_all(dir_);
+  }
+  void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
+
+ private:
+  fs::path dir_;
+};
+
+TEST(KernelSource, EveryKernelFileIsEmbedded) {
+  const auto files = cl::embedded_kernel_files();
+  for (const auto& entry : fs::directory_iterator(fs::path(CLR_SOURCE_DIR) / "kernels")) {
+    if (entry.path().extension() != ".cl") continue;
+    const auto name = entry.path().filename().string();
+    EXPECT_NE(std::find(files.begin(), files.end(), name), files.end()) << name;
+    std::ifstream in(entry.path());
+    const std::string on_disk((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(cl::kernel_source(name), on_disk) << name << " differs from its embedded copy";
+  }
+}
+
+TEST(KernelSource, OverrideDirectoryIsRead) {
+  KernelDir dir;
+  dir.write("util.cl", "// from disk\n");
+  EXPECT_EQ(cl::kernel_source("util.cl"), "// from disk\n");
+  EXPECT_THROW(cl::kernel_source("missing.cl"), InputError);
+}
+
+TEST_F(ClTest, ProgramsAreBuiltOncePerFilesAndOptions) {
+  const auto before = ctx().programs_built();
+  const auto& a = ctx().program({"atomics.cl", "reduce.cl"}, "-DCLR_CACHE_TEST=1");
+  const auto& b = ctx().program({"atomics.cl", "reduce.cl"}, "-DCLR_CACHE_TEST=1");
+  EXPECT_EQ(a.get(), b.get());
+  EXPECT_EQ(ctx().programs_built(), before + 1);
+  const auto& c = ctx().program({"atomics.cl", "reduce.cl"}, "-DCLR_CACHE_TEST=2");
+  EXPECT_NE(a.get(), c.get());
+  EXPECT_EQ(ctx().programs_built(), before + 2);
+}
+
+TEST_F(ClTest, BuildErrorCarriesTheBuildLog) {
+  KernelDir dir;
+  dir.write("broken.cl", "__kernel void broken(__global float* x) {\n  x[0] = undeclared_name;\n}\n");
+  try {
+    ctx().program({"broken.cl"});
+    FAIL() << "a broken kernel built";
+  } catch (const cl::Error& e) {
+    EXPECT_EQ(e.status(), CL_BUILD_PROGRAM_FAILURE);
+    EXPECT_THAT(e.what(), HasSubstr("broken.cl"));
+    EXPECT_THAT(e.what(), HasSubstr("undeclared_name")) << "the build log is missing";
+  }
+  // A failed build is not cached: fixing the file makes the next request build.
+  dir.write("broken.cl", "__kernel void broken(__global float* x) { x[0] = 1.0f; }\n");
+  EXPECT_NO_THROW(ctx().program({"broken.cl"}).kernel("broken"));
+}
+
+TEST_F(ClTest, UnknownKernelNameIsNamed) {
+  try {
+    ctx().program({"atomics.cl", "reduce.cl"}).kernel("no_such_kernel");
+    FAIL();
+  } catch (const cl::Error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("no_such_kernel"));
+  }
+}
+
+TEST_F(ClTest, OversizedWorkGroupIsRefused) {
+  auto k = ctx().program({"atomics.cl", "reduce.cl"}).kernel("fill_f32");
+  cl::Buffer<float> buf(ctx(), 16);
+  k.args(buf, 16u, 0.0f);
+  EXPECT_GT(k.work_group_size(), 0u);
+  EXPECT_THROW(k.launch(k.work_group_size() * 2, k.work_group_size() * 2), cl::Error);
+}
+
+TEST_F(ClTest, OversizedBufferIsRefusedWithItsSize) {
+  try {
+    cl::Buffer<float> huge(ctx(), ctx().device().max_alloc_bytes / sizeof(float) + 1);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("max allocation"));
+  }
+}
+
+TEST_F(ClTest, MemoryAccountingTracksPeak) {
+  ctx().reset_peak();
+  const auto base = ctx().bytes_in_use();
+  {
+    cl::Buffer<float> a(ctx(), 1000);
+    cl::Buffer<float> b(ctx(), 500);
+    EXPECT_EQ(ctx().bytes_in_use(), base + 6000);
+  }
+  EXPECT_EQ(ctx().bytes_in_use(), base);
+  EXPECT_EQ(ctx().peak_bytes(), base + 6000);
+}
+
+}  // namespace
+}  // namespace clr::test

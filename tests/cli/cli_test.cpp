@@ -1,0 +1,70 @@
+// The clradiosity binary as a user meets it: exit codes and one clear line on stderr.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "cl/device.hpp"
+#include "support/run_cli.hpp"
+
+namespace clr::test {
+namespace {
+
+using ::testing::HasSubstr;
+
+TEST(Cli, VersionAndHelp) {
+  auto r = run_cli("--version");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_THAT(r.out, HasSubstr("clradiosity " CLR_VERSION));
+  r = run_cli("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_THAT(r.out, HasSubstr("devices"));
+}
+
+TEST(Cli, UsageErrorsExitTwoWithOneLine) {
+  for (const char* args : {"--no-such-flag", "no-such-command", "devices --json=maybe --bogus"}) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+  }
+}
+
+TEST(Cli, BadDeviceExitsTwoAndListsDevices) {
+  const auto devices = cl::list_devices();
+  for (const auto& [args, env] :
+       {std::pair{"devices --device nosuch", ""}, std::pair{"devices", "CLRADIOSITY_DEVICE=nosuch"},
+        std::pair{"devices --device 9:9", ""}}) {
+    const auto r = run_cli(args, env);
+    EXPECT_EQ(r.exit_code, 2) << args << " " << env;
+    EXPECT_THAT(r.err, HasSubstr("available"));
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    for (const auto& d : devices) EXPECT_THAT(r.err, HasSubstr(d.name));
+  }
+}
+
+TEST(Cli, DevicesListsEveryDeviceAndMarksTheDefault) {
+  const auto devices = cl::list_devices();
+  if (devices.empty()) GTEST_SKIP() << "no OpenCL platform on this machine";
+  auto r = run_cli("devices");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const auto& d : devices) EXPECT_THAT(r.out, HasSubstr(d.describe()));
+  EXPECT_THAT(r.out, HasSubstr("* " + cl::select_device(devices, "").describe()));
+
+  r = run_cli("devices --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j.size(), devices.size());
+  for (std::size_t i = 0; i < devices.size(); ++i) {
+    EXPECT_EQ(j[i]["name"], devices[i].name);
+    EXPECT_EQ(j[i]["index"], devices[i].spec());
+    EXPECT_EQ(j[i]["max_alloc_bytes"], devices[i].max_alloc_bytes);
+    EXPECT_TRUE(j[i].contains("float_atomics") && j[i].contains("fp16") && j[i].contains("compute_units"));
+  }
+
+  r = run_cli("devices --json --device " + devices.back().spec());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out).size(), 1u);
+}
+
+}  // namespace
+}  // namespace clr::test
