@@ -1,0 +1,46 @@
+#pragma once
+// Linear RGB float images, EXR/PNG files and the metrics of DESIGN.md §4.
+#include <filesystem>
+#include <vector>
+
+namespace clr::image {
+
+// Row-major, top row first, 3 floats (linear RGB) per pixel.
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<float> rgb;
+
+  Image() = default;
+  Image(int w, int h) : width(w), height(h), rgb(std::size_t(w) * std::size_t(h) * 3, 0.0f) {}
+  float* pixel(int x, int y) { return &rgb[(std::size_t(y) * std::size_t(width) + std::size_t(x)) * 3]; }
+  const float* pixel(int x, int y) const { return &rgb[(std::size_t(y) * std::size_t(width) + std::size_t(x)) * 3]; }
+};
+
+// RGB channels of an OpenEXR file (missing G/B replicate R; alpha ignored). InputError naming the file on failure.
+Image read_exr(const std::filesystem::path& path);
+// Writes a float32 RGB EXR, atomically (temp name, then rename), so no partial file is left behind.
+void write_exr(const std::filesystem::path& path, const Image& img);
+// 8-bit sRGB PNG of the image scaled by 2^exposure and clamped, written atomically.
+void write_png(const std::filesystem::path& path, const Image& img, float exposure = 0.0f);
+// 8-bit image files (png/jpg/...) as linear or sRGB-decoded floats, for textures.
+Image read_ldr(const std::filesystem::path& path, bool srgb_to_linear);
+
+// Averages factor×factor blocks; width and height must be multiples of factor.
+Image box_downsample(const Image& img, int factor);
+// `ref` resized to `like` when its size is an integer multiple of it; InputError when the sizes do not fit.
+Image match_size(const Image& ref, const Image& like);
+
+struct Metrics {
+  double mape = 0;    // mean(|a−b| / (|b| + 0.01))
+  double mse = 0;     // mean((a−b)²)
+  double relmse = 0;  // mean((a−b)² / (b² + 0.01))
+  std::size_t non_finite = 0;  // pixels·channels of `a` that were NaN/inf (counted, excluded from the means)
+};
+// Over all pixels and channels; images must have equal size.
+Metrics compare(const Image& a, const Image& ref);
+
+// Per-pixel relative error |a−b|/(|b|+0.01) (channel mean) as a false-colour map, 0 → blue … ≥ max_error → red.
+Image error_map(const Image& a, const Image& ref, float max_error = 1.0f);
+
+}  // namespace clr::image
