@@ -1,0 +1,46 @@
+// clradiosity compare IMAGE.exr REFERENCE.exr [--json] [--error-map OUT.png]
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "cli/command.hpp"
+#include "image/image.hpp"
+
+namespace clr::cli {
+
+Command add_compare_command(CLI::App& app) {
+  struct Options {
+    std::string image, reference, error_map;
+    bool json = false;
+  };
+  auto opt = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("compare",
+                                 "Print MAPE, MSE and relMSE of an image against a reference (the reference is "
+                                 "box-downsampled when its size is an integer multiple of the image's)");
+  cmd->add_option("image", opt->image, "Image to evaluate (EXR)")->required();
+  cmd->add_option("reference", opt->reference, "Reference (EXR)")->required();
+  cmd->add_flag("--json", opt->json, "Print one JSON object");
+  cmd->add_option("--error-map", opt->error_map, "Write a false-colour relative-error map (PNG; red = 100 %)");
+
+  return {cmd, [opt]() {
+            const auto img = image::read_exr(opt->image);
+            const auto ref = image::match_size(image::read_exr(opt->reference), img);
+            const auto m = image::compare(img, ref);
+            if (!opt->error_map.empty()) image::write_png(opt->error_map, image::error_map(img, ref));
+            if (m.non_finite)
+              std::cerr << "clradiosity: warning: " << m.non_finite << " non-finite values excluded from the metrics\n";
+            if (opt->json) {
+              std::cout << nlohmann::json{{"mape", m.mape},     {"mse", m.mse},
+                                          {"relmse", m.relmse}, {"non_finite", m.non_finite},
+                                          {"width", img.width}, {"height", img.height}}
+                               .dump()
+                        << "\n";
+            } else {
+              std::printf("MAPE %.6g  MSE %.6g  relMSE %.6g  (%dx%d)\n", m.mape, m.mse, m.relmse, img.width,
+                          img.height);
+            }
+            return 0;
+          }};
+}
+
+}  // namespace clr::cli

@@ -1,0 +1,88 @@
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "common/error.hpp"
+#include "image/image.hpp"
+
+namespace clr::image {
+namespace {
+std::string size_text(const Image& img) { return std::to_string(img.width) + "x" + std::to_string(img.height); }
+}  // namespace
+
+Image box_downsample(const Image& img, int f) {
+  if (f < 1 || img.width % f || img.height % f)
+    throw InputError("cannot box-downsample " + size_text(img) + " by " + std::to_string(f));
+  Image out(img.width / f, img.height / f);
+  const float norm = 1.0f / float(f * f);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      double sum[3] = {0, 0, 0};
+      for (int dy = 0; dy < f; ++dy)
+        for (int dx = 0; dx < f; ++dx) {
+          const float* p = img.pixel(x * f + dx, y * f + dy);
+          for (int c = 0; c < 3; ++c) sum[c] += p[c];
+        }
+      for (int c = 0; c < 3; ++c) out.pixel(x, y)[c] = float(sum[c]) * norm;
+    }
+  return out;
+}
+
+Image match_size(const Image& ref, const Image& like) {
+  if (ref.width == like.width && ref.height == like.height) return ref;
+  if (like.width > 0 && ref.width % like.width == 0 && ref.height % like.height == 0 &&
+      ref.width / like.width == ref.height / like.height)
+    return box_downsample(ref, ref.width / like.width);
+  throw InputError("reference is " + size_text(ref) + ", image is " + size_text(like) +
+                   ": sizes must be equal or the reference an integer multiple of the image");
+}
+
+Metrics compare(const Image& a, const Image& ref) {
+  if (a.width != ref.width || a.height != ref.height)
+    throw InputError("cannot compare " + size_text(a) + " with " + size_text(ref));
+  Metrics m;
+  double mape = 0, mse = 0, relmse = 0;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+    const double x = a.rgb[i], r = ref.rgb[i];
+    if (!std::isfinite(x) || !std::isfinite(r)) {
+      ++m.non_finite;
+      continue;
+    }
+    const double d = x - r;
+    mape += std::abs(d) / (std::abs(r) + 0.01);
+    mse += d * d;
+    relmse += d * d / (r * r + 0.01);
+  }
+  const double n = double(a.rgb.size() - m.non_finite);
+  if (n > 0) {
+    m.mape = mape / n;
+    m.mse = mse / n;
+    m.relmse = relmse / n;
+  }
+  return m;
+}
+
+Image error_map(const Image& a, const Image& ref, float max_error) {
+  if (a.width != ref.width || a.height != ref.height)
+    throw InputError("cannot compare " + size_text(a) + " with " + size_text(ref));
+  Image out(a.width, a.height);
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      float e = 0;
+      for (int c = 0; c < 3; ++c)
+        e += std::abs(a.pixel(x, y)[c] - ref.pixel(x, y)[c]) / (std::abs(ref.pixel(x, y)[c]) + 0.01f);
+      // Non-finite pixels show as the maximum error: they are the worst kind.
+      const float t = std::isfinite(e) ? std::clamp(e / 3.0f / max_error, 0.0f, 1.0f) : 1.0f;
+      // Blue → cyan → green → yellow → red, piecewise linear in four equal segments.
+      const float r = std::clamp(4.0f * t - 2.0f, 0.0f, 1.0f);
+      const float g = t < 0.75f ? std::clamp(4.0f * t, 0.0f, 1.0f) : std::clamp(4.0f - 4.0f * t, 0.0f, 1.0f);
+      const float b = std::clamp(2.0f - 4.0f * t, 0.0f, 1.0f);
+      float* p = out.pixel(x, y);
+      p[0] = r;
+      p[1] = g;
+      p[2] = b;
+    }
+  return out;
+}
+
+}  // namespace clr::image
