@@ -1,0 +1,69 @@
+#include "common/progress.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace clr {
+namespace {
+std::string duration_text(double s) {
+  char buf[32];
+  if (s < 60)
+    std::snprintf(buf, sizeof buf, "%.0fs", s);
+  else if (s < 3600)
+    std::snprintf(buf, sizeof buf, "%dm%02ds", int(s) / 60, int(s) % 60);
+  else
+    std::snprintf(buf, sizeof buf, "%dh%02dm", int(s) / 3600, int(s) / 60 % 60);
+  return buf;
+}
+}  // namespace
+
+Progress::Progress(std::string label, double total, double interval_seconds)
+    : label_(std::move(label)),
+      total_(total),
+      interval_(interval_seconds),
+      tty_(::isatty(STDERR_FILENO) != 0),
+      start_(std::chrono::steady_clock::now()),
+      last_print_(start_) {}
+
+Progress::~Progress() {
+  if (tty_ && !finished_) std::fputc('\n', stderr);
+}
+
+double Progress::elapsed_seconds() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void Progress::update(double done, const std::string& detail) {
+  last_done_ = done;
+  const auto now = std::chrono::steady_clock::now();
+  const double since = std::chrono::duration<double>(now - last_print_).count();
+  if (since < (tty_ ? 0.2 : interval_)) return;
+  last_print_ = now;
+  print(done, detail, false);
+}
+
+void Progress::finish(const std::string& detail) {
+  print(last_done_, detail, true);
+  finished_ = true;
+}
+
+void Progress::print(double done, const std::string& detail, bool final) {
+  const double t = elapsed_seconds();
+  std::string line = label_;
+  char buf[96];
+  if (total_ > 0) {
+    std::snprintf(buf, sizeof buf, " %5.1f%%", 100.0 * done / total_);
+    line += buf;
+  }
+  line += " " + duration_text(t);
+  if (total_ > 0 && done > 0 && !final) line += " (ETA " + duration_text(t * (total_ - done) / done) + ")";
+  if (!detail.empty()) line += "  " + detail;
+  if (tty_)
+    std::fprintf(stderr, "\r\033[K%s%s", line.c_str(), final ? "\n" : "");
+  else
+    std::fprintf(stderr, "%s\n", line.c_str());
+  std::fflush(stderr);
+}
+
+}  // namespace clr

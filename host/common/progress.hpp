@@ -1,0 +1,32 @@
+#pragma once
+// Progress of long work (DESIGN.md §4): on a TTY one line redrawn in place; otherwise (logs, CI) a plain line at
+// most every `interval` seconds, so redirected output stays readable and bounded.
+#include <chrono>
+#include <string>
+
+namespace clr {
+
+class Progress {
+ public:
+  // `label` prefixes every line ("train", "reference"); `total` is the amount of work (0: unknown).
+  Progress(std::string label, double total, double interval_seconds = 5.0);
+  ~Progress();
+  // Reports `done` units; `detail` is appended ("loss 0.12"). Prints only when due.
+  void update(double done, const std::string& detail = "");
+  // Prints the final line unconditionally.
+  void finish(const std::string& detail = "");
+  double elapsed_seconds() const;
+
+ private:
+  void print(double done, const std::string& detail, bool final);
+
+  std::string label_;
+  double total_;
+  double interval_;
+  bool tty_;
+  bool finished_ = false;
+  double last_done_ = 0;
+  std::chrono::steady_clock::time_point start_, last_print_;
+};
+
+}  // namespace clr
