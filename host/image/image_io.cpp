@@ -1,5 +1,4 @@
-// EXR via OpenEXR, 8/16-bit formats via stb. Every write goes to a temporary name first and is renamed into
-// place, so an interrupted or failed write never leaves a partial file that looks complete.
+// EXR via OpenEXR, 8/16-bit formats via stb; every write is atomic (common/atomic_file.hpp).
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -7,12 +6,12 @@
 #include <ImfOutputFile.h>
 #include <stb_image.h>
 #include <stb_image_write.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
 
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "image/image.hpp"
 
@@ -22,21 +21,6 @@ namespace {
 
 float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 float linear_to_srgb(float c) { return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f; }
-
-// Runs `write(temp_path)`, then renames the temp file onto `path`; the temp file is removed on any failure.
-template <typename Write>
-void write_atomically(const fs::path& path, Write&& write) {
-  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
-  try {
-    if (path.has_parent_path()) fs::create_directories(path.parent_path());
-    write(tmp);
-    fs::rename(tmp, path);
-  } catch (...) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw;
-  }
-}
 
 }  // namespace
 
@@ -76,7 +60,7 @@ Image read_exr(const fs::path& path) {
 }
 
 void write_exr(const fs::path& path, const Image& img) {
-  write_atomically(path, [&](const fs::path& tmp) {
+  clr::write_atomically(path, [&](const fs::path& tmp) {
     Imf::Header header(img.width, img.height);
     for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
     Imf::OutputFile file(tmp.c_str(), header);
@@ -98,7 +82,7 @@ void write_png(const fs::path& path, const Image& img, float exposure) {
     const float v = std::isfinite(img.rgb[i]) ? std::clamp(img.rgb[i] * scale, 0.0f, 1.0f) : 0.0f;
     bytes[i] = static_cast<unsigned char>(std::lround(linear_to_srgb(v) * 255.0f));
   }
-  write_atomically(path, [&](const fs::path& tmp) {
+  clr::write_atomically(path, [&](const fs::path& tmp) {
     if (!stbi_write_png(tmp.c_str(), img.width, img.height, 3, bytes.data(), img.width * 3))
       throw std::runtime_error("cannot write PNG " + path.string());
   });

@@ -1,0 +1,64 @@
+#include "radiosity/train_config.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "common/error.hpp"
+
+namespace clr::radiosity {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string error_of(const nlohmann::json& j) {
+  try {
+    auto c = j.get<TrainConfig>();
+    c.validate();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(TrainConfig, JsonRoundTripKeepsEveryField) {
+  TrainConfig c;
+  c.method = "isnr";
+  c.samples = 32;
+  c.batch = 1024;
+  c.minutes = 2.5;
+  c.seed = 99;
+  c.network = {{"width", 128}};
+  const TrainConfig back = nlohmann::json(c).get<TrainConfig>();
+  EXPECT_EQ(nlohmann::json(back), nlohmann::json(c));
+  EXPECT_EQ(back.method, "isnr");
+  EXPECT_EQ(back.network["width"], 128);
+}
+
+TEST(TrainConfig, ImpossibleSettingsNameTheKey) {
+  EXPECT_EQ(error_of(nlohmann::json::object()), "");
+  EXPECT_THAT(error_of({{"samples", 0}}), HasSubstr("samples"));
+  EXPECT_THAT(error_of({{"method", "pt"}}), HasSubstr("method"));
+  EXPECT_THAT(error_of({{"learning_rate", -1}}), HasSubstr("learning_rate"));
+  EXPECT_THAT(error_of({{"bsdf_fraction", 1.5}}), HasSubstr("bsdf_fraction"));
+  EXPECT_THAT(error_of({{"samlpes", 4}}), HasSubstr("unknown training config key 'samlpes'"));
+  EXPECT_THAT(error_of({{"samples", "four"}}), HasSubstr("wrong type"));
+}
+
+TEST(TrainConfig, FileErrorsNameTheFile) {
+  const auto path = std::filesystem::temp_directory_path() / "clr_bad_config.json";
+  std::ofstream(path) << "{ \"samples\": 4,";
+  try {
+    load_train_config(path.string());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("clr_bad_config.json"));
+  }
+  std::filesystem::remove(path);
+  EXPECT_THROW(load_train_config(path.string()), InputError);
+}
+
+}  // namespace
+}  // namespace clr::radiosity
