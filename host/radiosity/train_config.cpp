@@ -33,10 +33,11 @@ void TrainConfig::validate() const {
   require(network.is_object(), "network", network, "an object");
 }
 
-#define CLR_TRAIN_CONFIG_FIELDS(X)                                                                    \
-  X(method)                                                                                           \
-  X(is_loss) X(residual) X(samples) X(batch) X(steps) X(minutes) X(seed) X(learning_rate) X(lr_decay) \
-      X(lr_decay_steps) X(bsdf_fraction) X(log_every) X(checkpoint_every) X(network)
+#define CLR_TRAIN_CONFIG_FIELDS(X)                                                                           \
+  X(method)                                                                                                  \
+  X(is_loss)                                                                                                 \
+  X(residual) X(samples) X(batch) X(steps) X(minutes) X(seed) X(learning_rate) X(lr_decay) X(lr_decay_steps) \
+      X(bsdf_fraction) X(log_every) X(checkpoint_every) X(network)
 
 void to_json(nlohmann::json& j, const TrainConfig& c) {
 #define CLR_PUT(f) j[#f] = c.f;
