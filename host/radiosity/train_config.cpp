@@ -33,48 +33,35 @@ void TrainConfig::validate() const {
   require(network.is_object(), "network", network, "an object");
 }
 
-#define CLR_TRAIN_CONFIG_FIELDS(X)                                                                           \
-  X(method)                                                                                                  \
-  X(is_loss)                                                                                                 \
-  X(residual) X(samples) X(batch) X(steps) X(minutes) X(seed) X(learning_rate) X(lr_decay) X(lr_decay_steps) \
-      X(bsdf_fraction) X(log_every) X(checkpoint_every) X(network)
-
-void to_json(nlohmann::json& j, const TrainConfig& c) {
-#define CLR_PUT(f) j[#f] = c.f;
-  j = nlohmann::json::object();
-  CLR_TRAIN_CONFIG_FIELDS(CLR_PUT)
-#undef CLR_PUT
-}
-
-void from_json(const nlohmann::json& j, TrainConfig& c) {
-  if (!j.is_object()) throw InputError("training config must be a JSON object");
-  std::set<std::string> known;
-#define CLR_GET(f)                                                                                          \
-  known.insert(#f);                                                                                         \
-  if (j.contains(#f)) try {                                                                                 \
-      j.at(#f).get_to(c.f);                                                                                 \
-    } catch (const nlohmann::json::exception&) {                                                            \
-      throw InputError(std::string("training config key '" #f "' has the wrong type: ") + j.at(#f).dump()); \
-    }
-  CLR_TRAIN_CONFIG_FIELDS(CLR_GET)
-#undef CLR_GET
-  for (const auto& [key, value] : j.items())
-    if (!known.count(key)) throw InputError("unknown training config key '" + key + "'");
+TrainConfig parse_train_config(const nlohmann::json& j, const TrainConfig& base) {
+  if (!j.is_object()) throw InputError("training config must be a JSON object, got " + j.dump());
+  const nlohmann::json defaults = base;
+  for (const auto& [key, value] : j.items()) {
+    if (!defaults.contains(key)) throw InputError("unknown training config key '" + key + "'");
+    const auto& want = defaults[key];
+    const bool same_kind = (want.is_number() && value.is_number()) || want.type() == value.type();
+    const bool integral_ok = !want.is_number_integer() || value.is_number_integer() ||
+                             (value.is_number_unsigned() && want.is_number_unsigned());
+    if (!same_kind || !integral_ok)
+      throw InputError("training config key '" + key + "' should be a " + want.type_name() + ", got " + value.dump());
+  }
+  nlohmann::json merged = defaults;
+  merged.update(j);
+  TrainConfig c = merged.get<TrainConfig>();
+  c.validate();
+  return c;
 }
 
 TrainConfig load_train_config(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError("config file not found: " + path);
-  TrainConfig c;
   try {
-    from_json(nlohmann::json::parse(in), c);
+    return parse_train_config(nlohmann::json::parse(in));
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError("malformed JSON in " + path + ": " + e.what());
   } catch (const InputError& e) {
     throw InputError(path + ": " + e.what());
   }
-  c.validate();
-  return c;
 }
 
 }  // namespace clr::radiosity

@@ -29,9 +29,13 @@ struct TrainConfig {
   void validate() const;
 };
 
-void to_json(nlohmann::json& j, const TrainConfig& c);
-// Unknown keys are an InputError (a misspelt key must not be silently ignored).
-void from_json(const nlohmann::json& j, TrainConfig& c);
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, is_loss, residual, samples, batch, steps, minutes,
+                                                seed, learning_rate, lr_decay, lr_decay_steps, bsdf_fraction, log_every,
+                                                checkpoint_every, network)
+
+// Applies the keys of `j` over `base`. An unknown key or a value of the wrong type is an InputError naming the
+// key (a misspelt key must not be silently ignored); the result is validated.
+TrainConfig parse_train_config(const nlohmann::json& j, const TrainConfig& base = {});
 
 TrainConfig load_train_config(const std::string& path);
 
