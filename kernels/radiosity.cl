@@ -1,0 +1,24 @@
+// The right-hand side of the rendering-equation residual (DESIGN.md §2) for M points with N incident samples each:
+//   rhs[m] = (1/N) Σ_n w[m,n] · (Le[m,n] + L[lookup[m,n]])
+// w = f·cos/p̃ (RGB), Le = emission at the hit or the environment, L = N-Module radiance at the hits that have a
+// network lookup (lookup = row in L, or -1 for misses and emitter-only hits). The network is evaluated on the
+// compacted rows only, so samples that need no lookup cost nothing there. Non-finite terms are dropped and counted.
+__kernel void incident_rhs(__global const float* weight, __global const float* emitted, __global const int* lookup,
+                           __global const float* radiance, unsigned int points, unsigned int samples,
+                           __global float* rhs, volatile __global unsigned int* non_finite) {
+  const size_t m = get_global_id(0);
+  if (m >= points) return;
+  float3 sum = (float3)(0.0f);
+  for (unsigned int n = 0; n < samples; ++n) {
+    const size_t s = m * samples + n;
+    float3 li = vload3(s, emitted);
+    const int row = lookup[s];
+    if (row >= 0) li += vload3((size_t)row, radiance);
+    const float3 term = vload3(s, weight) * li;
+    if (isfinite(term.x) && isfinite(term.y) && isfinite(term.z))
+      sum += term;
+    else
+      atomic_inc(non_finite);
+  }
+  vstore3(sum / (float)samples, m, rhs);
+}
