@@ -1,8 +1,10 @@
 // The right-hand side of the rendering-equation residual (DESIGN.md §2) for M points with N incident samples each:
-//   rhs[m] = (1/N) Σ_n w[m,n] · (Le[m,n] + L[lookup[m,n]])
-// w = f·cos/p̃ (RGB), Le = emission at the hit or the environment, L = N-Module radiance at the hits that have a
-// network lookup (lookup = row in L, or -1 for misses and emitter-only hits). The network is evaluated on the
-// compacted rows only, so samples that need no lookup cost nothing there. Non-finite terms are dropped and counted.
+//   rhs[m] = (1/N) Σ_n (E[m,n] + w[m,n] · L[lookup[m,n]])
+// w = f·cos/p̃ times the throughput of any delta chain the sample passed (RGB); E = the emission (or environment)
+// the sample met, already weighted the same way, so emission part-way along a chain is exact; L = N-Module
+// radiance at the samples that end on a modelled surface (lookup = row in L, or -1 where none). The network is
+// evaluated on the compacted rows only, so samples that need no lookup cost nothing there. Non-finite terms are dropped
+// and counted.
 __kernel void incident_rhs(__global const float* weight, __global const float* emitted, __global const int* lookup,
                            __global const float* radiance, unsigned int points, unsigned int samples,
                            __global float* rhs, volatile __global unsigned int* non_finite) {
@@ -11,10 +13,9 @@ __kernel void incident_rhs(__global const float* weight, __global const float* e
   float3 sum = (float3)(0.0f);
   for (unsigned int n = 0; n < samples; ++n) {
     const size_t s = m * samples + n;
-    float3 li = vload3(s, emitted);
+    float3 term = vload3(s, emitted);
     const int row = lookup[s];
-    if (row >= 0) li += vload3((size_t)row, radiance);
-    const float3 term = vload3(s, weight) * li;
+    if (row >= 0) term += vload3(s, weight) * vload3((size_t)row, radiance);
     if (isfinite(term.x) && isfinite(term.y) && isfinite(term.z))
       sum += term;
     else

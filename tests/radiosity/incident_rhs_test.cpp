@@ -24,7 +24,8 @@ TEST_F(ClTest, IncidentRhsMatchesDoubleTwin) {
   for (auto& l : lookup) l = u(rng) < 1.4f ? rows++ : -1;  // 70 % of samples hit a surface the network evaluates
   radiance.resize(std::size_t(rows) * 3);
   for (auto& v : radiance) v = u(rng);
-  weight[7 * 3 + 1] = std::numeric_limits<float>::infinity();  // sample 7 of point 1 is dropped and counted
+  weight[7 * 3 + 1] = std::numeric_limits<float>::infinity();
+  lookup[7] = 0;  // sample 7 (of point 1) uses the infinite weight: dropped and counted
 
   std::vector<double> twin(M * 3, 0.0);
   for (unsigned m = 0; m < M; ++m)
@@ -32,9 +33,9 @@ TEST_F(ClTest, IncidentRhsMatchesDoubleTwin) {
       const std::size_t s = m * N + n;
       if (s == 7) continue;
       for (int c = 0; c < 3; ++c) {
-        double li = emitted[s * 3 + c];
-        if (lookup[s] >= 0) li += radiance[std::size_t(lookup[s]) * 3 + c];
-        twin[m * 3 + c] += double(weight[s * 3 + c]) * li / N;
+        double term = emitted[s * 3 + c];
+        if (lookup[s] >= 0) term += double(weight[s * 3 + c]) * radiance[std::size_t(lookup[s]) * 3 + c];
+        twin[m * 3 + c] += term / N;
       }
     }
 
