@@ -16,6 +16,7 @@ struct Command {
 void add_device_option(CLI::App& cmd, std::string& spec);
 
 Command add_devices_command(CLI::App& app);
+Command add_reference_command(CLI::App& app);
 Command add_compare_command(CLI::App& app);
 
 }  // namespace clr::cli

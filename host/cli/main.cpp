@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   const std::vector<clr::cli::Command> commands = {
       clr::cli::add_devices_command(app),
       clr::cli::add_compare_command(app),
+      clr::cli::add_reference_command(app),
   };
 
   try {

@@ -1,0 +1,75 @@
+#include "geometry/surface.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace clr::geometry {
+namespace {
+
+// Height of a bump map (its luminance, like Mitsuba's single-channel evaluation of an RGB texture).
+float height(const scene::BumpMap& b, const Vec2& uv) { return scene::luminance(b.height.eval(uv)); }
+
+// Tilts the shading normal by the height field's gradient: the surface becomes p + scale·h(uv)·n, whose tangents
+// are dp/du + scale·(dh/du)·n (the normal's own variation is neglected, as is usual).
+Vec3 bump_normal(const scene::BumpMap& b, const Vec3& n, const Vec3& dpdu, const Vec3& dpdv, const Vec2& uv) {
+  constexpr float kDelta = 1e-3f;  // in uv; below a texel of any texture up to 1000² so the lookups resolve it
+  const float h = height(b, uv);
+  const float dhdu = (height(b, uv + Vec2(kDelta, 0)) - h) / kDelta;
+  const float dhdv = (height(b, uv + Vec2(0, kDelta)) - h) / kDelta;
+  const Vec3 tu = dpdu + b.scale * dhdu * n, tv = dpdv + b.scale * dhdv * n;
+  Vec3 bumped = glm::cross(tu, tv);
+  const float len = glm::length(bumped);
+  if (!(len > 0)) return n;
+  bumped /= len;
+  return glm::dot(bumped, n) < 0 ? -bumped : bumped;
+}
+
+}  // namespace
+
+Vec3 SurfacePoint::spawn_origin(const Vec3& dir) const {
+  const float magnitude = std::max({std::fabs(position.x), std::fabs(position.y), std::fabs(position.z), 1.0f});
+  const float offset = 2e-5f * magnitude;
+  return position + geometric_normal * (glm::dot(geometric_normal, dir) > 0 ? offset : -offset);
+}
+
+SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::uint32_t prim, const Vec2& b) {
+  const scene::Shape& s = scene.shapes[shape];
+  const scene::Mesh& m = s.mesh;
+  const glm::uvec3 t = m.triangles[prim];
+  const float b0 = 1.0f - b.x - b.y;
+  SurfacePoint p;
+  p.shape = shape;
+  p.prim = prim;
+  const Vec3 p0 = m.positions[t.x], p1 = m.positions[t.y], p2 = m.positions[t.z];
+  p.position = b0 * p0 + b.x * p1 + b.y * p2;
+  const Vec3 e1 = p1 - p0, e2 = p2 - p0;
+  const Vec3 ng = glm::cross(e1, e2);
+  const float len = glm::length(ng);
+  p.geometric_normal = len > 0 ? ng / len : Vec3(0, 0, 1);
+  Vec3 n = p.geometric_normal;
+  if (!m.normals.empty()) {
+    const Vec3 ns = b0 * m.normals[t.x] + b.x * m.normals[t.y] + b.y * m.normals[t.z];
+    const float l = glm::length(ns);
+    if (l > 0) n = ns / l;
+  }
+  if (!m.uvs.empty()) p.uv = b0 * m.uvs[t.x] + b.x * m.uvs[t.y] + b.y * m.uvs[t.z];
+  if (const auto* bump = scene.bsdf(s).bump(); bump && !m.uvs.empty()) {
+    // dp/du and dp/dv from the triangle's uv parametrisation; a degenerate uv map leaves the normal untouched.
+    const Vec2 d1 = m.uvs[t.y] - m.uvs[t.x], d2 = m.uvs[t.z] - m.uvs[t.x];
+    const float det = d1.x * d2.y - d1.y * d2.x;
+    if (std::fabs(det) > 1e-12f) {
+      const Vec3 dpdu = (d2.y * e1 - d1.y * e2) / det, dpdv = (d1.x * e2 - d2.x * e1) / det;
+      n = bump_normal(*bump, n, dpdu, dpdv, p.uv);
+    }
+  }
+  p.frame = scene::Frame(n);
+  return p;
+}
+
+Rgb emitted(const scene::Scene& scene, const SurfacePoint& p, const Vec3& wo) {
+  const scene::Shape& s = scene.shapes[p.shape];
+  if (!s.is_emitter() || glm::dot(p.frame.n, wo) <= 0) return Rgb(0.0f);
+  return s.radiance;
+}
+
+}  // namespace clr::geometry

@@ -1,0 +1,35 @@
+#pragma once
+// A point on a scene's surface, found by a ray or drawn by area: position, normals, shading frame (bump-mapped
+// where the BSDF asks for it) and uv. Independent of Embree, so the trainer and the tests can build one directly.
+#include <cstdint>
+
+#include "scene/scene.hpp"
+
+namespace clr::geometry {
+
+using scene::Rgb;
+using scene::Vec2;
+using scene::Vec3;
+
+struct SurfacePoint {
+  Vec3 position;
+  Vec3 geometric_normal;  // unit, from the triangle's winding
+  scene::Frame frame;     // shading frame: z = interpolated (and possibly bump-mapped) normal
+  Vec2 uv;
+  std::uint32_t shape = 0, prim = 0;
+
+  // A ray origin leaving the surface towards `dir`, pushed off the triangle's plane on the side `dir` points to,
+  // by an amount relative to the coordinates' magnitude (float positions carry relative error).
+  Vec3 spawn_origin(const Vec3& dir) const;
+  // The BSDF at this point in world space (BsdfPoint converts directions to the shading frame).
+  scene::BsdfPoint bsdf(const scene::Scene& s) const { return {&s.bsdf(s.shapes[shape]), frame, uv}; }
+};
+
+// Interpolates triangle `prim` of shape `shape` at barycentrics (b1, b2) (weights of vertices 1 and 2).
+SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::uint32_t prim, const Vec2& barycentric);
+
+// Radiance the surface emits towards `wo` (world, pointing away from the surface): the area emitter's radiance on
+// the side its shading normal faces, zero elsewhere and for non-emitters.
+Rgb emitted(const scene::Scene& scene, const SurfacePoint& p, const Vec3& wo);
+
+}  // namespace clr::geometry

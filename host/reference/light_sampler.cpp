@@ -1,0 +1,87 @@
+#include "reference/light_sampler.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace clr::reference {
+
+LightSampler::LightSampler(const scene::Scene& scene)
+    : scene_(&scene), first_(scene.shapes.size(), std::numeric_limits<std::size_t>::max()) {
+  for (std::size_t s = 0; s < scene.shapes.size(); ++s) {
+    const auto& shape = scene.shapes[s];
+    if (!shape.is_emitter()) continue;
+    first_[s] = cdf_.size();
+    const auto& m = shape.mesh;
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+      const glm::uvec3 tri = m.triangles[t];
+      const float a = 0.5f * glm::length(glm::cross(m.positions[tri.y] - m.positions[tri.x],
+                                                    m.positions[tri.z] - m.positions[tri.x]));
+      total_ += double(a) * double(scene::luminance(shape.radiance));
+      shape_.push_back(std::uint32_t(s));
+      prim_.push_back(std::uint32_t(t));
+      area_.push_back(a);
+      cdf_.push_back(total_);
+    }
+  }
+  if (!(total_ > 0)) {
+    cdf_.clear();
+    shape_.clear();
+    prim_.clear();
+    area_.clear();
+  }
+  // With both kinds of light, half the samples go to the environment: its power is not comparable to the
+  // triangles' (it has no area), and an even split never starves either.
+  if (scene.environment) environment_probability_ = cdf_.empty() ? 1.0f : 0.5f;
+}
+
+LightSample LightSampler::sample(const Vec3& from, Pcg32& rng) const {
+  LightSample ls{};
+  const float u_select = rng.next_float();
+  const scene::Vec2 u(rng.next_float(), rng.next_float());
+  if (u_select < environment_probability_) {
+    const auto s = scene_->environment->sample(u);
+    ls.direction = s.dir;
+    ls.distance = std::numeric_limits<float>::infinity();
+    ls.radiance = s.radiance;
+    ls.pdf = s.pdf * environment_probability_;
+    ls.environment = true;
+    return ls;
+  }
+  const double target = double(rng.next_float()) * total_;
+  const auto k = std::size_t(std::min<std::ptrdiff_t>(std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin(),
+                                                      std::ptrdiff_t(cdf_.size()) - 1));
+  const float su = std::sqrt(u.x);
+  const auto p = geometry::surface_point(*scene_, shape_[k], prim_[k], scene::Vec2(su * (1 - u.y), su * u.y));
+  const Vec3 d = p.position - from;
+  const float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0)) return ls;
+  ls.distance = std::sqrt(dist2);
+  ls.direction = d / ls.distance;
+  ls.point = p.position;
+  ls.light_normal = p.geometric_normal;
+  ls.radiance = geometry::emitted(*scene_, p, -ls.direction);
+  const float cos_light = std::fabs(glm::dot(p.geometric_normal, ls.direction));
+  if (!(cos_light > 0)) return ls;
+  const float select = float((cdf_[k] - (k ? cdf_[k - 1] : 0.0)) / total_) * (1.0f - environment_probability_);
+  ls.pdf = select / area_[k] * dist2 / cos_light;
+  return ls;
+}
+
+float LightSampler::pdf_triangle(const geometry::SurfacePoint& p, const Vec3& from) const {
+  const std::size_t first = first_[p.shape];
+  if (first == std::numeric_limits<std::size_t>::max() || cdf_.empty()) return 0.0f;
+  const std::size_t k = first + p.prim;
+  const Vec3 d = p.position - from;
+  const float dist2 = glm::dot(d, d);
+  const float cos_light = std::fabs(glm::dot(p.geometric_normal, d)) / std::sqrt(dist2);
+  if (!(cos_light > 0)) return 0.0f;
+  const float select = float((cdf_[k] - (k ? cdf_[k - 1] : 0.0)) / total_) * (1.0f - environment_probability_);
+  return select / area_[k] * dist2 / cos_light;
+}
+
+float LightSampler::pdf_environment(const Vec3& dir) const {
+  return environment_probability_ > 0 ? environment_probability_ * scene_->environment->pdf(dir) : 0.0f;
+}
+
+}  // namespace clr::reference

@@ -1,0 +1,157 @@
+#include "reference/path_tracer.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+
+#include "common/parallel.hpp"
+#include "common/pcg32.hpp"
+#include "common/progress.hpp"
+#include "reference/light_sampler.hpp"
+
+namespace clr::reference {
+namespace {
+
+using scene::Rgb;
+using scene::Vec2;
+using scene::Vec3;
+
+float power_heuristic(float a, float b) {
+  const float a2 = a * a, b2 = b * b;
+  return a2 + b2 > 0 ? a2 / (a2 + b2) : 0.0f;
+}
+
+// Russian roulette starts after this many bounces: short paths carry most of the image and stay noise-free.
+constexpr int kRouletteDepth = 3;
+
+class PathTracer {
+ public:
+  PathTracer(const geometry::Geometry& g, int max_depth) : g_(g), s_(g.scene()), lights_(s_), max_depth_(max_depth) {}
+
+  Rgb radiance(geometry::Ray ray, Pcg32& rng, std::uint64_t& rays) const {
+    Rgb L(0.0f), beta(1.0f);
+    bool specular = true;  // the last bounce was a delta lobe (or there was none): no MIS on what it hits
+    float prev_pdf = 0;
+    Vec3 prev_position(0.0f);
+    for (int depth = 0;; ++depth) {
+      ++rays;
+      const geometry::Hit hit = g_.intersect(ray);
+      if (!hit.valid()) {
+        if (s_.environment) {
+          const float w = specular ? 1.0f : power_heuristic(prev_pdf, lights_.pdf_environment(ray.direction));
+          L += beta * s_.environment->eval(ray.direction) * w;
+        }
+        break;
+      }
+      const geometry::SurfacePoint sp = g_.surface(hit);
+      const Vec3 wo = -ray.direction;
+      if (const Rgb le = geometry::emitted(s_, sp, wo); !scene::is_black(le)) {
+        const float w = specular ? 1.0f : power_heuristic(prev_pdf, lights_.pdf_triangle(sp, prev_position));
+        L += beta * le * w;
+      }
+      if (max_depth_ >= 0 && depth + 1 >= max_depth_) break;
+
+      const scene::BsdfPoint bsdf = sp.bsdf(s_);
+      if (bsdf.bsdf->has_non_delta() && !lights_.empty()) L += beta * next_event(sp, bsdf, wo, rng, rays);
+
+      const auto bs = bsdf.sample(wo, rng.next_float(), Vec2(rng.next_float(), rng.next_float()));
+      if (!bs) break;
+      beta *= bs->weight;
+      specular = bs->delta;
+      prev_pdf = bs->pdf;
+      prev_position = sp.position;
+      ray = {sp.spawn_origin(bs->wi), 0.0f, bs->wi};
+      if (scene::is_black(beta)) break;
+      if (depth + 1 >= kRouletteDepth) {
+        const float q = std::fmin(scene::max_component(beta), 0.95f);
+        if (rng.next_float() >= q) break;
+        beta /= q;
+      }
+    }
+    return L;
+  }
+
+ private:
+  Rgb next_event(const geometry::SurfacePoint& sp, const scene::BsdfPoint& bsdf, const Vec3& wo, Pcg32& rng,
+                 std::uint64_t& rays) const {
+    const LightSample ls = lights_.sample(sp.position, rng);
+    if (!(ls.pdf > 0) || scene::is_black(ls.radiance)) return Rgb(0.0f);
+    const Rgb f = bsdf.eval(wo, ls.direction);
+    if (scene::is_black(f)) return Rgb(0.0f);
+    geometry::Ray shadow{sp.spawn_origin(ls.direction), 0.0f, ls.direction, ls.distance};
+    if (!ls.environment) {
+      // Stop short of the light's surface by the same relative margin the origin was pushed off its own.
+      const Vec3 target = ls.point + ls.light_normal * (glm::dot(ls.light_normal, -ls.direction) > 0 ? 1.0f : -1.0f) *
+                                         2e-5f * std::fmax(1.0f, scene::max_component(glm::abs(ls.point)));
+      shadow.direction = target - shadow.origin;
+      shadow.tfar = 1.0f;
+    }
+    ++rays;
+    if (g_.occluded(shadow)) return Rgb(0.0f);
+    const float w = power_heuristic(ls.pdf, bsdf.pdf(wo, ls.direction));
+    return f * ls.radiance * (w / ls.pdf);
+  }
+
+  const geometry::Geometry& g_;
+  const scene::Scene& s_;
+  LightSampler lights_;
+  int max_depth_;
+};
+
+}  // namespace
+
+image::Image render(const geometry::Geometry& geometry, const RenderOptions& options, RenderStats* stats) {
+  scene::Camera camera = geometry.scene().camera;
+  if (options.width > 0) camera.width = options.width;
+  if (options.height > 0) camera.height = options.height;
+  const PathTracer tracer(geometry, options.max_depth);
+  image::Image img(camera.width, camera.height);
+  std::atomic<std::uint64_t> rays{0}, non_finite{0};
+  std::atomic<int> rows_done{0};
+  std::mutex progress_mutex;
+  std::optional<Progress> progress;
+  if (options.progress) progress.emplace("reference", double(camera.height));
+  const auto start = std::chrono::steady_clock::now();
+
+  parallel_for(std::size_t(camera.height), 1, [&](std::size_t y0, std::size_t y1) {
+    std::uint64_t local_rays = 0, local_bad = 0;
+    for (std::size_t y = y0; y < y1; ++y) {
+      for (int x = 0; x < camera.width; ++x) {
+        Pcg32 rng(y * std::size_t(camera.width) + std::size_t(x), options.seed);
+        glm::dvec3 sum(0.0);
+        for (int s = 0; s < options.spp; ++s) {
+          const float px = float(x) + rng.next_float(), py = float(y) + rng.next_float();
+          const auto cr = camera.ray(px, py);
+          const Rgb L = tracer.radiance({cr.origin, cr.tnear, cr.direction}, rng, local_rays);
+          if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z))
+            sum += glm::dvec3(L);
+          else
+            ++local_bad;
+        }
+        const glm::dvec3 mean = sum / double(options.spp);
+        float* p = img.pixel(x, int(y));
+        p[0] = float(mean.x);
+        p[1] = float(mean.y);
+        p[2] = float(mean.z);
+      }
+      const int done = ++rows_done;
+      if (progress) {
+        std::lock_guard lock(progress_mutex);
+        progress->update(done);
+      }
+    }
+    rays += local_rays;
+    non_finite += local_bad;
+  });
+  if (progress) progress->finish();
+  if (stats) {
+    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats->paths = std::uint64_t(camera.width) * std::uint64_t(camera.height) * std::uint64_t(options.spp);
+    stats->rays = rays;
+    stats->non_finite = non_finite;
+  }
+  return img;
+}
+
+}  // namespace clr::reference

@@ -1,0 +1,30 @@
+#pragma once
+// The reference: a unidirectional path tracer with next-event estimation, multiple importance sampling (power
+// heuristic) and Russian roulette, over the same scene, geometry and BSDF code the trainer uses. Pixel (x, y)
+// draws all its samples from its own PCG32 stream (index y·width + x, stream = seed), so an image depends only on
+// the seed, never on the thread count.
+#include <cstdint>
+
+#include "geometry/geometry.hpp"
+#include "image/image.hpp"
+
+namespace clr::reference {
+
+struct RenderOptions {
+  int width = 0, height = 0;  // 0: the scene's film
+  int spp = 16;
+  int max_depth = -1;  // longest path in segments (1: emitters seen directly only); -1: unbounded (roulette ends it)
+  std::uint64_t seed = 0;
+  bool progress = false;  // print progress on stderr
+};
+
+struct RenderStats {
+  double seconds = 0;
+  std::uint64_t paths = 0;
+  std::uint64_t rays = 0;        // closest-hit and shadow rays
+  std::uint64_t non_finite = 0;  // samples dropped for being NaN or infinite
+};
+
+image::Image render(const geometry::Geometry& geometry, const RenderOptions& options, RenderStats* stats = nullptr);
+
+}  // namespace clr::reference

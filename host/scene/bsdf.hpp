@@ -1,0 +1,70 @@
+#pragma once
+// Scattering at a surface point, in the local shading frame (z = shading normal), the interface both the reference
+// path tracer and the Neural Radiosity trainer use. Directions point away from the surface: `wo` towards the
+// viewer (the previous path vertex), `wi` towards the light. Texture lookups take the surface uv.
+//
+// eval returns f(wo, wi)·|cos θi| of the non-delta lobes; pdf the solid-angle density with which sample() draws wi
+// (lobe-selection probability included); sample() returns the throughput weight f·|cos θi|/pdf. Delta lobes
+// (mirrors, smooth glass) never appear in eval/pdf; sample() flags them with `delta` and their pdf is the discrete
+// probability of choosing them.
+#include <memory>
+#include <optional>
+
+#include "scene/frame.hpp"
+#include "scene/texture.hpp"
+
+namespace clr::scene {
+
+struct BsdfSample {
+  Vec3 wi;
+  Rgb weight;  // f·|cos θi| / pdf
+  float pdf;   // solid angle (non-delta) or the lobe's discrete probability (delta)
+  bool delta;
+};
+
+// Mitsuba's `bumpmap`: a height field whose uv gradient tilts the shading normal.
+struct BumpMap {
+  Texture height;
+  float scale = 1.0f;
+};
+
+class Bsdf {
+ public:
+  virtual ~Bsdf() = default;
+  virtual Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const = 0;
+  virtual float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const = 0;
+  // `u_lobe` chooses among lobes (reflect/refract, specular/diffuse), `u` draws the direction. nullopt: absorbed.
+  virtual std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const = 0;
+  // What a network sees as the surface colour: the reflectance a unit white light would produce at normal
+  // incidence (diffuse albedo, conductor F0 tint, plastic substrate).
+  virtual Rgb albedo(const Vec2& uv) const = 0;
+  // 1 for Lambertian, the microfacet alpha for glossy lobes, 0 for purely specular.
+  virtual float roughness() const = 0;
+  // False for purely specular materials: no light sampling there, no training points (DESIGN.md §2).
+  virtual bool has_non_delta() const = 0;
+  // Geometry-level wrappers (Mitsuba's mask and bumpmap) expose their textures; wrappers of wrappers forward.
+  virtual const Texture* opacity() const { return nullptr; }
+  virtual const BumpMap* bump() const { return nullptr; }
+};
+
+// Evaluation of a BSDF at a world-space point: the frame it was hit with plus its uv. The trainer's view.
+struct BsdfPoint {
+  const Bsdf* bsdf;
+  Frame frame;
+  Vec2 uv;
+
+  Rgb eval(const Vec3& wo_world, const Vec3& wi_world) const {
+    return bsdf->eval(uv, frame.to_local(wo_world), frame.to_local(wi_world));
+  }
+  float pdf(const Vec3& wo_world, const Vec3& wi_world) const {
+    return bsdf->pdf(uv, frame.to_local(wo_world), frame.to_local(wi_world));
+  }
+  // wi in the result is in world space.
+  std::optional<BsdfSample> sample(const Vec3& wo_world, float u_lobe, const Vec2& u) const {
+    auto s = bsdf->sample(uv, frame.to_local(wo_world), u_lobe, u);
+    if (s) s->wi = frame.to_world(s->wi);
+    return s;
+  }
+};
+
+}  // namespace clr::scene

@@ -1,0 +1,145 @@
+#pragma once
+// The Mitsuba BSDF plugins clradiosity models (one .cpp each, bsdf_<name>.cpp). Parameters follow Mitsuba 3:
+// IORs are relative (interior over exterior), reflectances are textures.
+#include "scene/bsdf.hpp"
+#include "scene/microfacet.hpp"
+
+namespace clr::scene {
+
+class Diffuse final : public Bsdf {
+ public:
+  explicit Diffuse(Texture reflectance) : reflectance_(std::move(reflectance)) {}
+  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const Vec2& uv) const override { return reflectance_.eval(uv); }
+  float roughness() const override { return 1.0f; }
+  bool has_non_delta() const override { return true; }
+
+ private:
+  Texture reflectance_;
+};
+
+// Smooth (`conductor`) when `microfacet` is empty, else `roughconductor`.
+class Conductor final : public Bsdf {
+ public:
+  Conductor(Rgb eta, Rgb k, Texture specular, std::optional<Microfacet> microfacet)
+      : eta_(eta), k_(k), specular_(std::move(specular)), mf_(microfacet) {}
+  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const Vec2& uv) const override;
+  float roughness() const override { return mf_ ? mf_->alpha : 0.0f; }
+  bool has_non_delta() const override { return mf_.has_value(); }
+
+ private:
+  Rgb eta_, k_;
+  Texture specular_;
+  std::optional<Microfacet> mf_;
+};
+
+// A diffuse substrate under a dielectric coating: `plastic` (smooth coating, a delta specular lobe) or
+// `roughplastic` (microfacet coating). The substrate's light is attenuated by the coating's transmittance on the
+// way in and out, and internal reflections are summed geometrically (Mitsuba's `nonlinear` switch).
+class Plastic final : public Bsdf {
+ public:
+  Plastic(float eta, Texture diffuse, Texture specular, bool nonlinear, std::optional<Microfacet> microfacet);
+  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const Vec2& uv) const override { return diffuse_.eval(uv); }
+  float roughness() const override { return mf_ ? mf_->alpha : 0.0f; }
+  bool has_non_delta() const override { return true; }
+
+ private:
+  float specular_probability(float cos_o) const;
+  Rgb diffuse_term(const Vec2& uv, const Vec3& wo, const Vec3& wi) const;
+
+  float eta_;
+  Texture diffuse_, specular_;
+  bool nonlinear_;
+  std::optional<Microfacet> mf_;
+  float fdr_int_;          // diffuse reflectance of the coating seen from inside
+  float specular_weight_;  // share of specular sampling when the Fresnel terms are equal
+};
+
+// `dielectric` (smooth), `roughdielectric` (microfacet) and `thindielectric` (a thin slab: transmission straight
+// through, reflection including the slab's internal bounces).
+class Dielectric final : public Bsdf {
+ public:
+  enum class Kind { smooth, rough, thin };
+  Dielectric(Kind kind, float eta, Texture specular_reflectance, Texture specular_transmittance,
+             std::optional<Microfacet> microfacet);
+  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const Vec2&) const override { return Rgb(1.0f); }
+  float roughness() const override { return mf_ ? mf_->alpha : 0.0f; }
+  bool has_non_delta() const override { return kind_ == Kind::rough; }
+
+ private:
+  std::optional<BsdfSample> sample_rough(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const;
+
+  Kind kind_;
+  float eta_;
+  Texture reflectance_, transmittance_;
+  std::optional<Microfacet> mf_;
+};
+
+// Base of the wrappers (twosided, mask, bumpmap): forwards everything to the nested BSDF.
+class NestedBsdf : public Bsdf {
+ public:
+  explicit NestedBsdf(std::shared_ptr<const Bsdf> nested) : nested_(std::move(nested)) {}
+  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override { return nested_->eval(uv, wo, wi); }
+  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override { return nested_->pdf(uv, wo, wi); }
+  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override {
+    return nested_->sample(uv, wo, u_lobe, u);
+  }
+  Rgb albedo(const Vec2& uv) const override { return nested_->albedo(uv); }
+  float roughness() const override { return nested_->roughness(); }
+  bool has_non_delta() const override { return nested_->has_non_delta(); }
+  const Texture* opacity() const override { return nested_->opacity(); }
+  const BumpMap* bump() const override { return nested_->bump(); }
+
+ protected:
+  std::shared_ptr<const Bsdf> nested_;
+};
+
+// Mitsuba's `twosided`: the back side (wo below the surface) scatters like the front, mirrored through the
+// surface, or like a second BSDF when one is given.
+class TwoSided final : public NestedBsdf {
+ public:
+  TwoSided(std::shared_ptr<const Bsdf> front, std::shared_ptr<const Bsdf> back)
+      : NestedBsdf(std::move(front)), back_(std::move(back)) {}
+  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  bool has_non_delta() const override { return nested_->has_non_delta() || back_->has_non_delta(); }
+
+ private:
+  std::shared_ptr<const Bsdf> back_;
+};
+
+// Mitsuba's `mask`: the surface is present with probability `opacity` — handled by the geometry (an alpha test in
+// Embree's filter functions), so scattering is the nested BSDF's.
+class Mask final : public NestedBsdf {
+ public:
+  Mask(Texture opacity, std::shared_ptr<const Bsdf> nested) : NestedBsdf(std::move(nested)), opacity_(opacity) {}
+  const Texture* opacity() const override { return &opacity_; }
+
+ private:
+  Texture opacity_;
+};
+
+// Mitsuba's `bumpmap`: the scene tilts the shading frame by the height field's gradient before the nested BSDF
+// scatters.
+class BumpMapped final : public NestedBsdf {
+ public:
+  BumpMapped(BumpMap bump, std::shared_ptr<const Bsdf> nested) : NestedBsdf(std::move(nested)), bump_(bump) {}
+  const BumpMap* bump() const override { return &bump_; }
+
+ private:
+  BumpMap bump_;
+};
+
+}  // namespace clr::scene

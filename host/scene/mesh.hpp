@@ -1,0 +1,41 @@
+#pragma once
+// Triangle meshes: what every Mitsuba shape becomes (analytic shapes are tessellated finely enough that their
+// area and normals match to well under the renderer's noise; see mesh_primitives.cpp).
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "scene/frame.hpp"
+
+namespace clr::scene {
+
+struct Mesh {
+  std::vector<Vec3> positions;
+  std::vector<Vec3> normals;  // per vertex (shading normals); empty: flat shading with the face normal
+  std::vector<Vec2> uvs;      // per vertex; empty: uv = (0, 0)
+  std::vector<glm::uvec3> triangles;
+
+  void transform(const glm::mat4& to_world);
+  // Reverses the winding and negates the normals (Mitsuba's flip_normals).
+  void flip();
+  // Angle-weighted vertex normals from the faces (Mitsuba's choice for meshes that come without normals).
+  void compute_vertex_normals();
+  // InputError (prefixed with `what`) for non-finite data, indices out of range, or no triangles.
+  void validate(const std::string& what) const;
+  double area() const;
+};
+
+// File formats; InputError naming the file for anything unreadable. Texture v is flipped (v' = 1 − v) as Mitsuba
+// does, so images appear upright.
+Mesh load_obj(const std::filesystem::path& path);
+Mesh load_ply(const std::filesystem::path& path);
+Mesh load_serialized(const std::filesystem::path& path, int shape_index);
+
+// Mitsuba's analytic shapes in their local frames: rectangle [-1,1]² in z = 0 facing +z; cube [-1,1]³ facing out;
+// disk of radius 1 in z = 0 facing +z; unit sphere at the origin facing out.
+Mesh make_rectangle();
+Mesh make_cube();
+Mesh make_disk();
+Mesh make_sphere();
+
+}  // namespace clr::scene

@@ -1,0 +1,39 @@
+#pragma once
+// A loaded scene: world-space triangle meshes with their BSDFs and area emitters, an optional environment, and
+// the camera. Everything the path tracer and the trainer need, independent of Embree (see geometry/).
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "scene/bsdf.hpp"
+#include "scene/camera.hpp"
+#include "scene/environment.hpp"
+#include "scene/mesh.hpp"
+
+namespace clr::scene {
+
+struct Shape {
+  std::string id;  // the XML id, or "shape N" (its index) when it has none
+  Mesh mesh;
+  int material = 0;    // index into Scene::materials
+  Rgb radiance{0.0f};  // area emitter (emits on the side its shading normal faces); black: none
+  bool is_emitter() const { return !is_black(radiance); }
+};
+
+struct Scene {
+  std::vector<Shape> shapes;
+  // Distinct BSDFs; a shape's material id indexes this list (what the trainer reports as "material id").
+  std::vector<std::shared_ptr<const Bsdf>> materials;
+  std::unique_ptr<Environment> environment;  // null: black background
+  Camera camera;
+
+  const Bsdf& bsdf(const Shape& s) const { return *materials[std::size_t(s.material)]; }
+};
+
+// Loads a Mitsuba scene (versions 0.5–3). `parameters` override the file's <default> values (like mitsuba -D).
+// InputError with "file:line: <element>: problem" on any unsupported, missing or malformed input.
+Scene load_scene(const std::filesystem::path& path, const std::map<std::string, std::string>& parameters = {});
+
+}  // namespace clr::scene
