@@ -32,9 +32,9 @@ Image box_downsample(const Image& img, int factor);
 Image match_size(const Image& ref, const Image& like);
 
 struct Metrics {
-  double mape = 0;    // mean(|a−b| / (|b| + 0.01))
-  double mse = 0;     // mean((a−b)²)
-  double relmse = 0;  // mean((a−b)² / (b² + 0.01))
+  double mape = 0;             // mean(|a−b| / (|b| + 0.01))
+  double mse = 0;              // mean((a−b)²)
+  double relmse = 0;           // mean((a−b)² / (b² + 0.01))
   std::size_t non_finite = 0;  // pixels·channels of `a` that were NaN/inf (counted, excluded from the means)
 };
 // Over all pixels and channels; images must have equal size.
