@@ -37,6 +37,8 @@ class Adam {
   const AdamConfig& config() const { return config_; }
   cl::Buffer<float>& first_moment() { return m_; }
   cl::Buffer<float>& second_moment() { return v_; }
+  const cl::Buffer<float>& first_moment() const { return m_; }
+  const cl::Buffer<float>& second_moment() const { return v_; }
   // Gradient values dropped as non-finite since construction (reads the device counter: a sync point).
   std::uint32_t non_finite_gradients() const { return non_finite_.read()[0]; }
 

@@ -14,8 +14,9 @@ Mlp::Mlp(cl::Context& ctx, Gemm& gemm, MlpConfig config, std::uint64_t seed)
     : ctx_(&ctx),
       gemm_(&gemm),
       config_(config),
-      act_backward_(ctx.program({"atomics.cl", "mlp.cl"}).kernel("act_backward_bias_grad")),
-      abs_(ctx.program({"atomics.cl", "mlp.cl"}).kernel("abs_f32")) {
+      act_backward_(ctx.program({"mlp.cl"}).kernel("act_backward_bias_grad")),
+      bias_reduce_(ctx.program({"mlp.cl"}).kernel("bias_grad_reduce")),
+      abs_(ctx.program({"mlp.cl"}).kernel("abs_f32")) {
   if (config_.inputs == 0 || config_.width == 0 || config_.outputs == 0)
     throw std::invalid_argument("mlp: inputs, width and outputs must be positive");
   std::size_t total = 0;
@@ -51,8 +52,8 @@ std::size_t Mlp::chunk_rows(std::size_t rows) const {
 
 cl::Buffer<float>& Mlp::workspace(std::size_t i, std::size_t count) {
   // Fixed slots (resizing the vector would invalidate references callers hold): 0 dZ of the output layer,
-  // 1-2 backward ping-pong, 3-4 inference ping-pong.
-  if (workspace_.size() < 5) workspace_.resize(5);
+  // 1-2 backward ping-pong, 3-4 inference ping-pong, 5 bias-gradient partial sums.
+  if (workspace_.size() < 6) workspace_.resize(6);
   if (workspace_[i].size() < count) {
     workspace_[i] = cl::Buffer<float>();  // free before allocating: keeps the peak at one copy
     workspace_[i] = cl::Buffer<float>(*ctx_, count);
@@ -95,7 +96,7 @@ void Mlp::forward_train(const cl::Buffer<float>& input, std::size_t rows, MlpCon
     gemm_->run(Op::N, Op::N, cr, O, fan_in(H), 1.0f, x, mat(params_, O, weight_offset(H)), 0.0f, mat(out, O, r0 * O),
                {&params_, bias_offset(H), Act::None});
   }
-  if (abs_out) abs_.args(u32(rows * O), c.pre_output, c.output).launch(rows * O);
+  if (abs_out) abs_.args(u32(rows * O), c.pre_output, c.output, 0u).launch(rows * O);
 }
 
 MlpContext Mlp::forward_train(const cl::Buffer<float>& input, std::size_t rows) {
@@ -106,13 +107,15 @@ MlpContext Mlp::forward_train(const cl::Buffer<float>& input, std::size_t rows) 
 
 void Mlp::bias_grad(std::size_t rows, std::size_t cols, MatRef dy, const cl::Buffer<float>& saved, std::size_t s_off,
                     std::size_t s_ld, unsigned act, MatRef dz, std::size_t bias_off) {
-  // 64 rows per work-item: few enough atomics per column, enough work-items to fill the device.
+  // 64 rows per work-item: a short second pass over the partial sums, enough work-items to fill the device.
   const std::size_t per_item = 64;
   const std::size_t groups = (rows + per_item - 1) / per_item;
+  auto& partial = workspace(5, groups * cols);
   act_backward_
       .args(u32(rows), u32(cols), u32(per_item), *dy.buf, u32(dy.offset), u32(dy.ld), saved, u32(s_off), u32(s_ld), act,
-            *dz.buf, u32(dz.offset), u32(dz.ld), grads_, u32(bias_off))
+            *dz.buf, u32(dz.offset), u32(dz.ld), partial)
       .launch({cols, groups}, {std::min<std::size_t>(cols, 16), 1});
+  bias_reduce_.args(u32(cols), u32(groups), partial, grads_, u32(bias_off)).launch(cols, 16);
 }
 
 void Mlp::backward(MlpContext& c, const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input) {
@@ -146,7 +149,7 @@ void Mlp::backward(MlpContext& c, const cl::Buffer<float>& d_output, cl::Buffer<
   }
 }
 
-void Mlp::infer(const cl::Buffer<float>& input, std::size_t rows, cl::Buffer<float>& output) {
+void Mlp::infer(const cl::Buffer<float>& input, std::size_t rows, cl::Buffer<float>& output, std::size_t out_row) {
   const std::size_t H = config_.hidden_layers, W = config_.width, O = config_.outputs;
   const std::size_t chunk = chunk_rows(rows);
   for (std::size_t r0 = 0; r0 < rows; r0 += chunk) {
@@ -161,7 +164,8 @@ void Mlp::infer(const cl::Buffer<float>& input, std::size_t rows, cl::Buffer<flo
     gemm_->run(Op::N, Op::N, cr, O, fan_in(H), 1.0f, x, mat(params_, O, weight_offset(H)), 0.0f, mat(output, O, r0 * O),
                {&params_, bias_offset(H), Act::None});
   }
-  if (config_.output_activation == OutputActivation::Abs) abs_.args(u32(rows * O), output, output).launch(rows * O);
+  if (config_.output_activation == OutputActivation::Abs)
+    abs_.args(u32(rows * O), output, output, u32(out_row * O)).launch(rows * O);
 }
 
 }  // namespace clr::nn

@@ -56,6 +56,7 @@ class Mlp {
 
   cl::Buffer<float>& params() { return params_; }
   cl::Buffer<float>& grads() { return grads_; }
+  const cl::Buffer<float>& params() const { return params_; }
 
   // input: [rows × inputs] row-major. Fills ctx (ctx.output: [rows × outputs]).
   void forward_train(const cl::Buffer<float>& input, std::size_t rows, MlpContext& ctx);
@@ -63,8 +64,8 @@ class Mlp {
   // Accumulates dL/dparams into grads() from d_output [rows × outputs]; writes dL/dinput into *d_input
   // ([rows × inputs]) when given (needed when the input encoding is trainable).
   void backward(MlpContext& ctx, const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input = nullptr);
-  // Inference without saved activations: output [rows × outputs].
-  void infer(const cl::Buffer<float>& input, std::size_t rows, cl::Buffer<float>& output);
+  // Inference without saved activations: output rows [out_row, out_row + rows) of a [· × outputs] buffer.
+  void infer(const cl::Buffer<float>& input, std::size_t rows, cl::Buffer<float>& output, std::size_t out_row = 0);
 
   std::size_t chunk_rows(std::size_t rows) const;
 
@@ -79,7 +80,7 @@ class Mlp {
   std::vector<std::size_t> offsets_;  // per layer, and the total at the end
   cl::Buffer<float> params_, grads_;
   std::vector<cl::Buffer<float>> workspace_;
-  cl::Kernel act_backward_, abs_;
+  cl::Kernel act_backward_, bias_reduce_, abs_;
 };
 
 }  // namespace clr::nn
