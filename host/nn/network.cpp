@@ -221,12 +221,11 @@ std::string Network::load(const std::string& path) {
   } catch (const nlohmann::json::exception&) {
     throw InputError("checkpoint " + path + ": the stored config is not valid JSON");
   }
-  // The GEMM backend and chunking change how, not what, the network computes: they may differ.
+  // The GEMM backend and chunking change how, not what, the network computes, and the seed only the initial
+  // parameters that loading overwrites: they may differ.
   auto mine = to_json(config_);
-  for (auto* j : {&saved, &mine}) {
-    j->erase("gemm");
-    j->erase("max_chunk_rows");
-  }
+  for (auto* j : {&saved, &mine})
+    for (const char* key : {"gemm", "max_chunk_rows", "seed"}) j->erase(key);
   if (saved != mine) {
     const auto diff = nlohmann::json::diff(mine, saved);
     const std::string where = diff.empty() ? "?" : diff.front().value("path", "?");
