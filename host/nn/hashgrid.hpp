@@ -1,0 +1,73 @@
+#pragma once
+// Multiresolution hash-grid encoding of a 3-D position (kernels/hashgrid.cl): levels × features outputs.
+// The table is trainable: backward accumulates dL/dtable (CAS atomics) and flags the entries a batch reached,
+// and adam_step() updates only those (lazy Adam, kernels/adam.cl): the dense gradient + Adam pass over a big
+// table is memory-bound on a CPU (DESIGN.md §6), while a batch touches at most rows · 8 entries per level.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "cl/buffer.hpp"
+#include "cl/context.hpp"
+#include "cl/kernel.hpp"
+#include "nn/adam.hpp"
+
+namespace clr::nn {
+
+struct HashGridConfig {
+  std::size_t levels = 12;
+  std::size_t features = 2;     // per level: 1, 2, 4 or 8
+  std::size_t log2_table = 18;  // T = 2^log2_table entries per level at most
+  std::size_t base_resolution = 16;
+  double growth = 1.5;                                      // b: N_l = floor(N_min · b^l)
+  std::array<float, 3> bbox_lo{0, 0, 0}, bbox_hi{1, 1, 1};  // positions are normalised to this box, then clamped
+};
+
+struct HashGridLevel {
+  std::uint32_t resolution;  // N_l cells per axis
+  bool dense;                // (N_l + 1)³ ≤ T: one entry per vertex, no hashing
+  std::uint32_t offset;      // first entry of this level in the table
+  std::uint32_t entries;     // (N_l + 1)³ when dense, else T
+};
+
+// The level layout of a config (also the host twin's).
+std::vector<HashGridLevel> hashgrid_levels(const HashGridConfig& config);
+
+class HashGrid {
+ public:
+  HashGrid(cl::Context& ctx, HashGridConfig config, AdamConfig adam, std::uint64_t seed);
+
+  const HashGridConfig& config() const { return config_; }
+  const std::vector<HashGridLevel>& levels() const { return levels_; }
+  std::size_t outputs() const { return config_.levels * config_.features; }
+  std::size_t entries() const { return touched_.size(); }
+
+  // positions: rows × 3 at in[in_off + r·in_ld]; writes out[out_off + r·out_ld + l·F + f].
+  void forward(const cl::Buffer<float>& in, std::size_t in_off, std::size_t in_ld, std::size_t rows,
+               cl::Buffer<float>& out, std::size_t out_off, std::size_t out_ld);
+  // Accumulates dL/dtable from d_out (same addressing as forward's output).
+  void backward(const cl::Buffer<float>& in, std::size_t in_off, std::size_t in_ld, std::size_t rows,
+                const cl::Buffer<float>& d_out, std::size_t d_off, std::size_t d_ld);
+  void adam_step() { adam_.step_sparse(table_, grad_, touched_, config_.features); }
+
+  cl::Buffer<float>& params() { return table_; }
+  cl::Buffer<float>& grads() { return grad_; }
+  cl::Buffer<std::uint8_t>& touched() { return touched_; }
+  Adam& adam() { return adam_; }
+  const cl::Buffer<float>& params() const { return table_; }
+  const Adam& adam() const { return adam_; }
+
+ private:
+  std::array<float, 3> inverse_extent() const;
+
+  cl::Context* ctx_;
+  HashGridConfig config_;
+  std::vector<HashGridLevel> levels_;
+  cl::Buffer<cl_uint4> level_info_;
+  cl::Buffer<float> table_, grad_;
+  cl::Buffer<std::uint8_t> touched_;
+  Adam adam_;
+  cl::Kernel forward_, backward_;
+};
+
+}  // namespace clr::nn

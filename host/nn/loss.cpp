@@ -1,0 +1,32 @@
+#include "nn/loss.hpp"
+
+#include "nn/gemm.hpp"
+
+namespace clr::nn {
+
+Loss::Loss(cl::Context& ctx, LossKind kind)
+    : kind_(kind),
+      total_(ctx, 1),
+      non_finite_(ctx, 1),
+      kernel_(ctx.program({"atomics.cl", "loss.cl"}).kernel("loss_l2")) {
+  total_.fill(0.0f);
+  non_finite_.fill(0u);
+}
+
+void Loss::evaluate(const cl::Buffer<float>& pred, const cl::Buffer<float>& target, std::size_t n, float scale,
+                    cl::Buffer<float>& grad) {
+  constexpr std::size_t local = 64;  // a power of two: the kernel's tree reduction needs one
+  kernel_
+      .args(u32(n), pred, target, scale, kind_ == LossKind::RelativeL2 ? 1u : 0u, grad, total_, non_finite_,
+            cl::LocalMemory{local * sizeof(float)})
+      .launch(n, local);
+}
+
+LossValue Loss::take() {
+  LossValue v{double(total_.read()[0]), non_finite_.read()[0]};
+  total_.fill(0.0f);
+  non_finite_.fill(0u);
+  return v;
+}
+
+}  // namespace clr::nn

@@ -1,0 +1,171 @@
+#include "nn/mlp.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+namespace clr::nn {
+namespace {
+constexpr unsigned kBwdNone = 0, kBwdRelu = 1, kBwdAbs = 2;  // BWD_* in kernels/mlp.cl
+}
+
+Mlp::Mlp(cl::Context& ctx, Gemm& gemm, MlpConfig config, std::uint64_t seed)
+    : ctx_(&ctx),
+      gemm_(&gemm),
+      config_(config),
+      act_backward_(ctx.program({"mlp.cl"}).kernel("act_backward_bias_grad")),
+      bias_reduce_(ctx.program({"mlp.cl"}).kernel("bias_grad_reduce")),
+      abs_(ctx.program({"mlp.cl"}).kernel("abs_f32")) {
+  if (config_.inputs == 0 || config_.width == 0 || config_.outputs == 0)
+    throw std::invalid_argument("mlp: inputs, width and outputs must be positive");
+  std::size_t total = 0;
+  for (std::size_t l = 0; l < layer_count(); ++l) {
+    offsets_.push_back(total);
+    total += fan_in(l) * fan_out(l) + fan_out(l);
+  }
+  offsets_.push_back(total);
+  // He-uniform weights (variance 2/fan_in keeps ReLU activations at a stable scale through depth), zero biases.
+  std::vector<float> host(total, 0.0f);
+  std::mt19937_64 rng(seed);
+  for (std::size_t l = 0; l < layer_count(); ++l) {
+    const float bound = float(std::sqrt(6.0 / double(fan_in(l))));
+    std::uniform_real_distribution<float> u(-bound, bound);
+    for (std::size_t i = 0; i < fan_in(l) * fan_out(l); ++i) host[offsets_[l] + i] = u(rng);
+  }
+  params_ = cl::Buffer<float>(ctx, std::span<const float>(host));
+  grads_ = cl::Buffer<float>(ctx, total);
+  grads_.fill(0.0f);
+}
+
+std::size_t Mlp::fan_in(std::size_t layer) const { return layer == 0 ? config_.inputs : config_.width; }
+std::size_t Mlp::fan_out(std::size_t layer) const {
+  return layer == config_.hidden_layers ? config_.outputs : config_.width;
+}
+
+std::size_t Mlp::chunk_rows(std::size_t rows) const {
+  const std::size_t widest = std::max({config_.inputs, config_.width, config_.outputs});
+  const std::size_t by_alloc = ctx_->device().max_alloc_bytes / (sizeof(float) * widest);
+  std::size_t c = std::min({rows, config_.max_chunk_rows, by_alloc});
+  return std::max<std::size_t>(c, 1);
+}
+
+cl::Buffer<float>& Mlp::workspace(std::size_t i, std::size_t count) {
+  // Fixed slots (resizing the vector would invalidate references callers hold): 0 dZ of the output layer,
+  // 1-2 backward ping-pong, 3-4 inference ping-pong, 5 bias-gradient partial sums.
+  if (workspace_.size() < 6) workspace_.resize(6);
+  if (workspace_[i].size() < count) {
+    workspace_[i] = cl::Buffer<float>();  // free before allocating: keeps the peak at one copy
+    workspace_[i] = cl::Buffer<float>(*ctx_, count);
+  }
+  return workspace_[i];
+}
+
+void Mlp::forward_train(const cl::Buffer<float>& input, std::size_t rows, MlpContext& c) {
+  const std::size_t H = config_.hidden_layers, W = config_.width, O = config_.outputs;
+  const std::size_t chunk = chunk_rows(rows);
+  const std::size_t chunks = (rows + chunk - 1) / chunk;
+  const bool grow = c.chunk_rows < chunk || c.hidden.size() < chunks * H;
+  if (grow) {
+    c.hidden.clear();
+    for (std::size_t i = 0; i < chunks * H; ++i) c.hidden.emplace_back(*ctx_, chunk * W);
+    c.chunk_rows = chunk;
+  }
+  if (c.output.size() < rows * O) {
+    c.output = cl::Buffer<float>();
+    c.output = cl::Buffer<float>(*ctx_, rows * O);
+  }
+  const bool abs_out = config_.output_activation == OutputActivation::Abs;
+  if (abs_out && c.pre_output.size() < rows * O) {
+    c.pre_output = cl::Buffer<float>();
+    c.pre_output = cl::Buffer<float>(*ctx_, rows * O);
+  }
+  c.rows = rows;
+  c.input = &input;
+  // Chunk boundaries follow c.chunk_rows (a reused context may have larger chunks than this batch needs).
+  for (std::size_t r0 = 0, ci = 0; r0 < rows; r0 += c.chunk_rows, ++ci) {
+    const std::size_t cr = std::min(c.chunk_rows, rows - r0);
+    MatRef x = mat(input, config_.inputs, r0 * config_.inputs);
+    for (std::size_t l = 0; l < H; ++l) {
+      auto& y = c.hidden[ci * H + l];
+      gemm_->run(Op::N, Op::N, cr, W, fan_in(l), 1.0f, x, mat(params_, W, weight_offset(l)), 0.0f, mat(y, W),
+                 {&params_, bias_offset(l), Act::Relu});
+      x = mat(y, W);
+    }
+    auto& out = abs_out ? c.pre_output : c.output;
+    gemm_->run(Op::N, Op::N, cr, O, fan_in(H), 1.0f, x, mat(params_, O, weight_offset(H)), 0.0f, mat(out, O, r0 * O),
+               {&params_, bias_offset(H), Act::None});
+  }
+  if (abs_out) abs_.args(u32(rows * O), c.pre_output, c.output, 0u).launch(rows * O);
+}
+
+MlpContext Mlp::forward_train(const cl::Buffer<float>& input, std::size_t rows) {
+  MlpContext c;
+  forward_train(input, rows, c);
+  return c;
+}
+
+void Mlp::bias_grad(std::size_t rows, std::size_t cols, MatRef dy, const cl::Buffer<float>& saved, std::size_t s_off,
+                    std::size_t s_ld, unsigned act, MatRef dz, std::size_t bias_off) {
+  // 64 rows per work-item: a short second pass over the partial sums, enough work-items to fill the device.
+  const std::size_t per_item = 64;
+  const std::size_t groups = (rows + per_item - 1) / per_item;
+  auto& partial = workspace(5, groups * cols);
+  act_backward_
+      .args(u32(rows), u32(cols), u32(per_item), *dy.buf, u32(dy.offset), u32(dy.ld), saved, u32(s_off), u32(s_ld), act,
+            *dz.buf, u32(dz.offset), u32(dz.ld), partial)
+      .launch({cols, groups}, {std::min<std::size_t>(cols, 16), 1});
+  bias_reduce_.args(u32(cols), u32(groups), partial, grads_, u32(bias_off)).launch(cols, 16);
+}
+
+void Mlp::backward(MlpContext& c, const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input) {
+  if (!c.input) throw std::logic_error("mlp: backward without forward_train");
+  const std::size_t H = config_.hidden_layers, W = config_.width, O = config_.outputs, I = config_.inputs;
+  const bool abs_out = config_.output_activation == OutputActivation::Abs;
+  auto& dz_out = workspace(0, c.chunk_rows * O);
+  for (std::size_t r0 = 0, ci = 0; r0 < c.rows; r0 += c.chunk_rows, ++ci) {
+    const std::size_t cr = std::min(c.chunk_rows, c.rows - r0);
+    auto x_of = [&](std::size_t l) { return l == 0 ? mat(*c.input, I, r0 * I) : mat(c.hidden[ci * H + l - 1], W); };
+    // Output layer: dZ = dY ⊙ act'(z), db += Σ dZ, dW += Xᵀ·dZ, dX = dZ·Wᵀ.
+    bias_grad(cr, O, mat(d_output, O, r0 * O), abs_out ? c.pre_output : d_output, r0 * O, O,
+              abs_out ? kBwdAbs : kBwdNone, mat(dz_out, O), bias_offset(H));
+    gemm_->run(Op::T, Op::N, fan_in(H), O, cr, 1.0f, x_of(H), mat(dz_out, O), 1.0f, mat(grads_, O, weight_offset(H)));
+    MatRef dz = mat(dz_out, O);
+    for (std::size_t l = H + 1; l-- > 0;) {
+      const bool last = l == 0;
+      if (last && !d_input) break;
+      // dX of layer l is dY of layer l-1 (or dL/dinput); ping-pong between two workspaces.
+      cl::Buffer<float>* dx_buf = last ? d_input : &workspace(1 + (l % 2), c.chunk_rows * W);
+      const MatRef dx = last ? mat(*d_input, I, r0 * I) : mat(*dx_buf, W);
+      gemm_->run(Op::N, Op::T, cr, fan_in(l), fan_out(l), 1.0f, dz, mat(params_, fan_out(l), weight_offset(l)), 0.0f,
+                 dx);
+      if (last) break;
+      // Hidden layer l-1: ReLU mask from its saved output, in place.
+      const std::size_t h = l - 1;
+      bias_grad(cr, W, dx, c.hidden[ci * H + h], 0, W, kBwdRelu, dx, bias_offset(h));
+      gemm_->run(Op::T, Op::N, fan_in(h), W, cr, 1.0f, x_of(h), dx, 1.0f, mat(grads_, W, weight_offset(h)));
+      dz = dx;
+    }
+  }
+}
+
+void Mlp::infer(const cl::Buffer<float>& input, std::size_t rows, cl::Buffer<float>& output, std::size_t out_row) {
+  const std::size_t H = config_.hidden_layers, W = config_.width, O = config_.outputs;
+  const std::size_t chunk = chunk_rows(rows);
+  for (std::size_t r0 = 0; r0 < rows; r0 += chunk) {
+    const std::size_t cr = std::min(chunk, rows - r0);
+    MatRef x = mat(input, config_.inputs, r0 * config_.inputs);
+    for (std::size_t l = 0; l < H; ++l) {
+      auto& y = workspace(3 + (l % 2), chunk * W);
+      gemm_->run(Op::N, Op::N, cr, W, fan_in(l), 1.0f, x, mat(params_, W, weight_offset(l)), 0.0f, mat(y, W),
+                 {&params_, bias_offset(l), Act::Relu});
+      x = mat(y, W);
+    }
+    gemm_->run(Op::N, Op::N, cr, O, fan_in(H), 1.0f, x, mat(params_, O, weight_offset(H)), 0.0f, mat(output, O, r0 * O),
+               {&params_, bias_offset(H), Act::None});
+  }
+  if (config_.output_activation == OutputActivation::Abs)
+    abs_.args(u32(rows * O), output, output, u32(out_row * O)).launch(rows * O);
+}
+
+}  // namespace clr::nn

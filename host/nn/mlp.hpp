@@ -1,0 +1,86 @@
+#pragma once
+// A fully connected network: `hidden_layers` dense layers of `width` with ReLU, then a dense output layer
+// (no activation, or abs for the N-Module's non-negative radiance). All weights and biases live in one parameter
+// buffer (and one gradient buffer) so Adam is a single launch.
+//
+// Layout of layer l (fan_in → fan_out) inside the buffer: W_l as [fan_in × fan_out] row-major, then b_l
+// [fan_out]. Storing W transposed relative to PyTorch's [out × in] makes the forward product Y = X·W a plain
+// row-major product (the fast case of the own GEMM); backward needs dX = dZ·Wᵀ and dW = Xᵀ·dZ.
+//
+// Batches are processed in chunks of at most `max_chunk_rows` rows, so no activation buffer exceeds the
+// device's max allocation (1 GiB on PoCL) whatever the batch.
+#include <cstdint>
+#include <vector>
+
+#include "cl/buffer.hpp"
+#include "cl/context.hpp"
+#include "cl/kernel.hpp"
+#include "nn/gemm.hpp"
+
+namespace clr::nn {
+
+enum class OutputActivation { None, Abs };
+
+struct MlpConfig {
+  std::size_t inputs = 0;
+  std::size_t width = 64;
+  std::size_t hidden_layers = 3;
+  std::size_t outputs = 32;
+  OutputActivation output_activation = OutputActivation::None;
+  std::size_t max_chunk_rows = 65536;  // further capped by the device's max allocation
+};
+
+// What forward_train keeps for backward: the input (not owned, must stay alive and unchanged until backward),
+// every hidden activation, and the output layer's pre-activation where the output activation needs it.
+// Reuse one MlpContext across steps: buffers are only reallocated when a batch needs more rows.
+struct MlpContext {
+  std::size_t rows = 0;
+  std::size_t chunk_rows = 0;
+  const cl::Buffer<float>* input = nullptr;
+  std::vector<cl::Buffer<float>> hidden;  // chunk c, layer l at [c · hidden_layers + l]: [chunk_rows × width]
+  cl::Buffer<float> pre_output;           // [rows × outputs], only for OutputActivation::Abs
+  cl::Buffer<float> output;               // [rows × outputs]
+};
+
+class Mlp {
+ public:
+  Mlp(cl::Context& ctx, Gemm& gemm, MlpConfig config, std::uint64_t seed);
+
+  const MlpConfig& config() const { return config_; }
+  std::size_t layer_count() const { return config_.hidden_layers + 1; }
+  std::size_t fan_in(std::size_t layer) const;
+  std::size_t fan_out(std::size_t layer) const;
+  std::size_t weight_offset(std::size_t layer) const { return offsets_[layer]; }
+  std::size_t bias_offset(std::size_t layer) const { return offsets_[layer] + fan_in(layer) * fan_out(layer); }
+  std::size_t parameter_count() const { return offsets_.back(); }
+
+  cl::Buffer<float>& params() { return params_; }
+  cl::Buffer<float>& grads() { return grads_; }
+  const cl::Buffer<float>& params() const { return params_; }
+
+  // input: [rows × inputs] row-major. Fills ctx (ctx.output: [rows × outputs]).
+  void forward_train(const cl::Buffer<float>& input, std::size_t rows, MlpContext& ctx);
+  MlpContext forward_train(const cl::Buffer<float>& input, std::size_t rows);
+  // Accumulates dL/dparams into grads() from d_output [rows × outputs]; writes dL/dinput into *d_input
+  // ([rows × inputs]) when given (needed when the input encoding is trainable).
+  void backward(MlpContext& ctx, const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input = nullptr);
+  // Inference without saved activations: output rows [out_row, out_row + rows) of a [· × outputs] buffer.
+  void infer(const cl::Buffer<float>& input, std::size_t rows, cl::Buffer<float>& output, std::size_t out_row = 0);
+
+  std::size_t chunk_rows(std::size_t rows) const;
+
+ private:
+  cl::Buffer<float>& workspace(std::size_t i, std::size_t count);
+  void bias_grad(std::size_t rows, std::size_t cols, MatRef dy, const cl::Buffer<float>& saved, std::size_t s_off,
+                 std::size_t s_ld, unsigned act, MatRef dz, std::size_t bias_off);
+
+  cl::Context* ctx_;
+  Gemm* gemm_;
+  MlpConfig config_;
+  std::vector<std::size_t> offsets_;  // per layer, and the total at the end
+  cl::Buffer<float> params_, grads_;
+  std::vector<cl::Buffer<float>> workspace_;
+  cl::Kernel act_backward_, bias_reduce_, abs_;
+};
+
+}  // namespace clr::nn

@@ -1,0 +1,251 @@
+#include "nn/network.hpp"
+
+#include <stdexcept>
+
+#include "common/error.hpp"
+#include "nn/checkpoint.hpp"
+
+namespace clr::nn {
+namespace {
+
+MlpConfig mlp_config(const NetworkConfig& c, std::size_t inputs) {
+  MlpConfig m;
+  m.inputs = inputs;
+  m.width = c.width;
+  m.hidden_layers = c.hidden_layers;
+  m.outputs = c.outputs;
+  m.output_activation = c.output_activation;
+  m.max_chunk_rows = c.max_chunk_rows;
+  return m;
+}
+
+// Encoder parameters are seeded apart from the MLP's so that changing one part does not reshuffle the other.
+constexpr std::uint64_t kEncoderSeedSalt = 0x9e3779b97f4a7c15ull;
+
+nlohmann::json adam_json(const AdamConfig& a) {
+  return {{"learning_rate", a.learning_rate},
+          {"beta1", a.beta1},
+          {"beta2", a.beta2},
+          {"epsilon", a.epsilon},
+          {"weight_decay", a.weight_decay},
+          {"decay", a.decay},
+          {"decay_start", a.decay_start},
+          {"decay_interval", a.decay_interval}};
+}
+
+}  // namespace
+
+NetworkConfig n_module_config(const std::array<float, 3>& lo, const std::array<float, 3>& hi) {
+  NetworkConfig c;
+  c.encoder.grid->bbox_lo = lo;
+  c.encoder.grid->bbox_hi = hi;
+  c.encoder.albedo = true;
+  c.encoder.roughness = false;
+  c.width = 512;
+  c.hidden_layers = 4;
+  c.outputs = 3;
+  c.output_activation = OutputActivation::Abs;
+  return c;
+}
+
+NetworkConfig i_module_config(const std::array<float, 3>& lo, const std::array<float, 3>& hi) {
+  NetworkConfig c;
+  c.encoder.grid->bbox_lo = lo;
+  c.encoder.grid->bbox_hi = hi;
+  c.encoder.albedo = false;
+  c.encoder.roughness = true;
+  c.width = 64;
+  c.hidden_layers = 3;
+  c.outputs = 32;
+  c.output_activation = OutputActivation::None;
+  return c;
+}
+
+nlohmann::json to_json(const NetworkConfig& c) {
+  nlohmann::json enc = {{"sh_direction", c.encoder.sh_direction},
+                        {"sh_normal", c.encoder.sh_normal},
+                        {"albedo", c.encoder.albedo},
+                        {"roughness", c.encoder.roughness}};
+  if (c.encoder.grid) {
+    const auto& g = *c.encoder.grid;
+    enc["grid"] = {{"levels", g.levels},         {"features", g.features},
+                   {"log2_table", g.log2_table}, {"base_resolution", g.base_resolution},
+                   {"growth", g.growth},         {"bbox_lo", g.bbox_lo},
+                   {"bbox_hi", g.bbox_hi}};
+  } else {
+    enc["grid"] = nullptr;
+  }
+  return {{"encoder", enc},
+          {"width", c.width},
+          {"hidden_layers", c.hidden_layers},
+          {"outputs", c.outputs},
+          {"output_activation", c.output_activation == OutputActivation::Abs ? "abs" : "none"},
+          {"max_chunk_rows", c.max_chunk_rows},
+          {"adam", adam_json(c.adam)},
+          {"gemm", c.gemm == GemmChoice::Own       ? "own"
+                   : c.gemm == GemmChoice::CLBlast ? "clblast"
+                                                   : "auto"},
+          {"seed", c.seed}};
+}
+
+NetworkConfig network_config_from_json(const nlohmann::json& j) {
+  NetworkConfig c;
+  std::string at;
+  try {
+    auto get = [&](const nlohmann::json& o, const char* key, auto& v) {
+      at = key;
+      if (o.contains(key)) v = o.at(key).get<std::decay_t<decltype(v)>>();
+    };
+    if (j.contains("encoder")) {
+      const auto& e = j.at("encoder");
+      get(e, "sh_direction", c.encoder.sh_direction);
+      get(e, "sh_normal", c.encoder.sh_normal);
+      get(e, "albedo", c.encoder.albedo);
+      get(e, "roughness", c.encoder.roughness);
+      if (e.contains("grid") && e.at("grid").is_null()) c.encoder.grid.reset();
+      if (e.contains("grid") && e.at("grid").is_object()) {
+        const auto& g = e.at("grid");
+        auto& gc = *c.encoder.grid;
+        get(g, "levels", gc.levels);
+        get(g, "features", gc.features);
+        get(g, "log2_table", gc.log2_table);
+        get(g, "base_resolution", gc.base_resolution);
+        get(g, "growth", gc.growth);
+        get(g, "bbox_lo", gc.bbox_lo);
+        get(g, "bbox_hi", gc.bbox_hi);
+      }
+    }
+    get(j, "width", c.width);
+    get(j, "hidden_layers", c.hidden_layers);
+    get(j, "outputs", c.outputs);
+    std::string act = "none", gemm = "auto";
+    get(j, "output_activation", act);
+    if (act != "none" && act != "abs") throw InputError("output_activation '" + act + "' is not none or abs");
+    c.output_activation = act == "abs" ? OutputActivation::Abs : OutputActivation::None;
+    get(j, "max_chunk_rows", c.max_chunk_rows);
+    get(j, "gemm", gemm);
+    c.gemm = parse_gemm_choice(gemm);
+    get(j, "seed", c.seed);
+    if (j.contains("adam")) {
+      const auto& a = j.at("adam");
+      get(a, "learning_rate", c.adam.learning_rate);
+      get(a, "beta1", c.adam.beta1);
+      get(a, "beta2", c.adam.beta2);
+      get(a, "epsilon", c.adam.epsilon);
+      get(a, "weight_decay", c.adam.weight_decay);
+      get(a, "decay", c.adam.decay);
+      get(a, "decay_start", c.adam.decay_start);
+      get(a, "decay_interval", c.adam.decay_interval);
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError("network config entry '" + at + "': " + e.what());
+  }
+  return c;
+}
+
+Network::Network(cl::Context& ctx, NetworkConfig config)
+    : ctx_(&ctx),
+      config_(config),
+      gemm_(ctx, config.gemm),
+      encoder_(ctx, config.encoder, config.adam, config.seed ^ kEncoderSeedSalt),
+      mlp_(ctx, gemm_, mlp_config(config, encoder_.outputs()), config.seed),
+      adam_(ctx, mlp_.parameter_count(), config.adam) {}
+
+std::size_t Network::parameter_count() const {
+  return mlp_.parameter_count() + (encoder_.grid() ? encoder_.grid()->params().size() : 0);
+}
+
+void Network::forward_train(const cl::Buffer<float>& raw, std::size_t rows, NetworkContext& c) {
+  const std::size_t D = encoder_.outputs();
+  if (c.encoded.size() < rows * D) {
+    c.encoded = cl::Buffer<float>();
+    c.encoded = cl::Buffer<float>(*ctx_, rows * D);
+  }
+  c.rows = rows;
+  c.raw = &raw;
+  encoder_.forward(raw, 0, rows, c.encoded);
+  mlp_.forward_train(c.encoded, rows, c.mlp);
+}
+
+void Network::backward(NetworkContext& c, const cl::Buffer<float>& d_output) {
+  if (!c.raw) throw std::logic_error("network: backward without forward_train");
+  HashGrid* grid = encoder_.grid();
+  if (grid && c.d_encoded.size() < c.rows * encoder_.outputs()) {
+    c.d_encoded = cl::Buffer<float>();
+    c.d_encoded = cl::Buffer<float>(*ctx_, c.rows * encoder_.outputs());
+  }
+  mlp_.backward(c.mlp, d_output, grid ? &c.d_encoded : nullptr);
+  if (grid) encoder_.backward(*c.raw, 0, c.rows, c.d_encoded);
+}
+
+void Network::infer(const cl::Buffer<float>& raw, std::size_t rows, cl::Buffer<float>& output) {
+  const std::size_t D = encoder_.outputs();
+  const std::size_t chunk = std::min(mlp_.chunk_rows(rows), ctx_->device().max_alloc_bytes / (sizeof(float) * D));
+  if (infer_encoded_.size() < chunk * D) {
+    infer_encoded_ = cl::Buffer<float>();
+    infer_encoded_ = cl::Buffer<float>(*ctx_, chunk * D);
+  }
+  for (std::size_t r0 = 0; r0 < rows; r0 += chunk) {
+    const std::size_t cr = std::min(chunk, rows - r0);
+    encoder_.forward(raw, r0, cr, infer_encoded_);
+    mlp_.infer(infer_encoded_, cr, output, r0);
+  }
+}
+
+void Network::adam_step() {
+  adam_.step(mlp_.params(), mlp_.grads());
+  encoder_.adam_step();
+}
+
+void Network::save(const std::string& path, const std::string& rng_state) const {
+  Checkpoint c;
+  c.config_json = to_json(config_).dump();
+  c.step = adam_.steps();
+  c.rng_state = rng_state;
+  c.tensors.emplace_back("mlp.params", mlp_.params().read());
+  c.tensors.emplace_back("mlp.adam.m", adam_.first_moment().read());
+  c.tensors.emplace_back("mlp.adam.v", adam_.second_moment().read());
+  if (const HashGrid* g = encoder_.grid()) {
+    c.tensors.emplace_back("grid.table", g->params().read());
+    c.tensors.emplace_back("grid.adam.m", g->adam().first_moment().read());
+    c.tensors.emplace_back("grid.adam.v", g->adam().second_moment().read());
+  }
+  write_checkpoint(path, c);
+}
+
+std::string Network::load(const std::string& path) {
+  const Checkpoint c = read_checkpoint(path);
+  nlohmann::json saved;
+  try {
+    saved = nlohmann::json::parse(c.config_json);
+  } catch (const nlohmann::json::exception&) {
+    throw InputError("checkpoint " + path + ": the stored config is not valid JSON");
+  }
+  // The GEMM backend and chunking change how, not what, the network computes, and the seed only the initial
+  // parameters that loading overwrites: they may differ.
+  auto mine = to_json(config_);
+  for (auto* j : {&saved, &mine})
+    for (const char* key : {"gemm", "max_chunk_rows", "seed"}) j->erase(key);
+  if (saved != mine) {
+    const auto diff = nlohmann::json::diff(mine, saved);
+    const std::string where = diff.empty() ? "?" : diff.front().value("path", "?");
+    throw InputError("checkpoint " + path + ": written for a different network config (first difference at " + where +
+                     ")");
+  }
+  mlp_.params().write(c.tensor(path, "mlp.params", mlp_.params().size()));
+  adam_.first_moment().write(c.tensor(path, "mlp.adam.m", adam_.first_moment().size()));
+  adam_.second_moment().write(c.tensor(path, "mlp.adam.v", adam_.second_moment().size()));
+  mlp_.grads().fill(0.0f);
+  adam_.set_steps(c.step);
+  if (HashGrid* g = encoder_.grid()) {
+    g->params().write(c.tensor(path, "grid.table", g->params().size()));
+    g->adam().first_moment().write(c.tensor(path, "grid.adam.m", g->params().size()));
+    g->adam().second_moment().write(c.tensor(path, "grid.adam.v", g->params().size()));
+    g->grads().fill(0.0f);
+    g->touched().fill(std::uint8_t(0));
+    g->adam().set_steps(c.step);
+  }
+  return c.rng_state;
+}
+
+}  // namespace clr::nn

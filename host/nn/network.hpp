@@ -1,0 +1,83 @@
+#pragma once
+// A trainable network = input encoder (hash grid, SH, raw features) + MLP, each with its Adam state.
+// The trainer's view (DESIGN.md §2): raw inputs [rows × kRawInputs] on the device in, outputs [rows × outputs] out.
+//   NetworkContext c;  net.forward_train(raw, rows, c);   // c.output(): predictions, activations kept
+//   net.backward(c, d_output);                             // accumulates parameter gradients
+//   net.adam_step();                                       // updates and clears them
+//   net.infer(raw, rows, out);                             // no saved activations, chunked for any batch
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cl/buffer.hpp"
+#include "cl/context.hpp"
+#include "nn/adam.hpp"
+#include "nn/encoder.hpp"
+#include "nn/gemm.hpp"
+#include "nn/mlp.hpp"
+
+namespace clr::nn {
+
+struct NetworkConfig {
+  EncoderConfig encoder;
+  std::size_t width = 64;
+  std::size_t hidden_layers = 3;
+  std::size_t outputs = 32;
+  OutputActivation output_activation = OutputActivation::None;
+  std::size_t max_chunk_rows = 65536;
+  AdamConfig adam;
+  GemmChoice gemm = GemmChoice::Auto;  // the engine config's `gemm: auto|own|clblast`
+  std::uint64_t seed = 1;
+};
+
+// ISNR §4.3: N-Module = hash grid + SH(ω_o) + SH(n) + albedo → 4 × 512 ReLU → 3, abs (non-negative radiance).
+NetworkConfig n_module_config(const std::array<float, 3>& bbox_lo, const std::array<float, 3>& bbox_hi);
+// I-Module = hash grid + SH(ω_o) + SH(n) + roughness → 3 × 64 ReLU → 32 raw outputs (8 vMF lobes).
+NetworkConfig i_module_config(const std::array<float, 3>& bbox_lo, const std::array<float, 3>& bbox_hi);
+
+nlohmann::json to_json(const NetworkConfig& c);
+NetworkConfig network_config_from_json(const nlohmann::json& j);  // throws InputError naming a bad entry
+
+struct NetworkContext {
+  std::size_t rows = 0;
+  const cl::Buffer<float>* raw = nullptr;  // not owned; must stay unchanged until backward
+  cl::Buffer<float> encoded;               // [rows × encoder outputs]
+  cl::Buffer<float> d_encoded;
+  MlpContext mlp;
+  const cl::Buffer<float>& output() const { return mlp.output; }
+};
+
+class Network {
+ public:
+  Network(cl::Context& ctx, NetworkConfig config);
+
+  const NetworkConfig& config() const { return config_; }
+  std::size_t outputs() const { return config_.outputs; }
+  Encoder& encoder() { return encoder_; }
+  Mlp& mlp() { return mlp_; }
+  Gemm& gemm() { return gemm_; }
+  std::size_t parameter_count() const;
+
+  void forward_train(const cl::Buffer<float>& raw, std::size_t rows, NetworkContext& c);
+  void backward(NetworkContext& c, const cl::Buffer<float>& d_output);
+  void infer(const cl::Buffer<float>& raw, std::size_t rows, cl::Buffer<float>& output);
+  void adam_step();
+  std::uint64_t steps() const { return adam_.steps(); }
+
+  // Checkpoint (nn/checkpoint.hpp): config, parameters, optimiser state, step and the trainer's RNG state.
+  void save(const std::string& path, const std::string& rng_state = "") const;
+  // Restores parameters and optimiser state; returns the saved RNG state. A file written for a different
+  // config, or damaged, throws InputError naming the file and the problem.
+  std::string load(const std::string& path);
+
+ private:
+  cl::Context* ctx_;
+  NetworkConfig config_;
+  Gemm gemm_;
+  Encoder encoder_;
+  Mlp mlp_;
+  Adam adam_;
+  cl::Buffer<float> infer_encoded_;
+};
+
+}  // namespace clr::nn

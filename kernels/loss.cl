@@ -1,0 +1,33 @@
+// Residual losses and their gradients w.r.t. the prediction, summed over n elements. Needs atomics.cl before it.
+//   L2           r²                         dL/dpred = 2r
+//   relative L2  r² / (sg(pred)² + 0.01)    dL/dpred = 2r / (sg(pred)² + 0.01)   (sg: the denominator is a constant)
+// with r = pred − target. `scale` (e.g. 1/n for a mean) multiplies both the loss and the gradient. Elements whose
+// loss or gradient is not finite are dropped (gradient 0, no loss) and counted (DESIGN.md §7).
+// The group size must be a power of two (tree reduction); every work-item reaches every barrier.
+__kernel void loss_l2(uint n, __global const float* pred, __global const float* target, float scale, uint relative,
+                      __global float* grad, volatile __global float* total, volatile __global uint* non_finite,
+                      __local float* scratch) {
+  const uint i = (uint)get_global_id(0);
+  const uint lid = (uint)get_local_id(0);
+  float l = 0.0f;
+  if (i < n) {
+    const float p = pred[i];
+    const float r = p - target[i];
+    const float den = relative ? p * p + 0.01f : 1.0f;
+    l = scale * (r * r / den);
+    float g = scale * (2.0f * r / den);
+    if (!isfinite(l) || !isfinite(g)) {
+      atomic_inc(non_finite);
+      l = 0.0f;
+      g = 0.0f;
+    }
+    grad[i] = g;
+  }
+  scratch[lid] = l;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint s = (uint)get_local_size(0) / 2; s > 0; s >>= 1) {
+    if (lid < s) scratch[lid] += scratch[lid + s];
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  if (lid == 0) atomic_add_f32(total, scratch[0]);
+}

@@ -1,0 +1,106 @@
+// Both GEMM backends against a double-precision twin, over every transpose the layers use, edge tiles,
+// split-K, and the fused bias + ReLU epilogue; canaries after C catch writes past the matrix.
+#include "nn/gemm.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "common/error.hpp"
+#include "support/cl_fixture.hpp"
+#include "support/tolerance.hpp"
+
+namespace clr::test {
+namespace {
+
+struct Case {
+  nn::Op op_a, op_b;
+  std::size_t m, n, k;
+  float alpha, beta;
+  bool bias;
+  nn::Act act;
+};
+
+class GemmTest : public ClTest {
+ protected:
+  void check(nn::Gemm& gemm, const Case& c) {
+    std::mt19937 rng(unsigned(c.m * 131 + c.n * 7 + c.k));
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    // Stored shapes: A is [m × k] or [k × m]; B is [k × n] or [n × k]. Leading dims padded by 3 so a kernel that
+    // assumed packed rows would fail.
+    const std::size_t a_rows = c.op_a == nn::Op::N ? c.m : c.k, a_cols = c.op_a == nn::Op::N ? c.k : c.m;
+    const std::size_t b_rows = c.op_b == nn::Op::N ? c.k : c.n, b_cols = c.op_b == nn::Op::N ? c.n : c.k;
+    const std::size_t lda = a_cols + 3, ldb = b_cols + 3, ldc = c.n + 3, off = 5;
+    std::vector<float> a(off + a_rows * lda), b(off + b_rows * ldb), bias(c.n), cm(off + c.m * ldc);
+    for (auto* v : {&a, &b, &bias, &cm})
+      for (auto& x : *v) x = u(rng);
+    auto A = [&](std::size_t i, std::size_t kk) {
+      return double(c.op_a == nn::Op::N ? a[off + i * lda + kk] : a[off + kk * lda + i]);
+    };
+    auto B = [&](std::size_t kk, std::size_t j) {
+      return double(c.op_b == nn::Op::N ? b[off + kk * ldb + j] : b[off + j * ldb + kk]);
+    };
+    std::vector<double> want(c.m * c.n);
+    for (std::size_t i = 0; i < c.m; ++i)
+      for (std::size_t j = 0; j < c.n; ++j) {
+        double s = 0;
+        for (std::size_t kk = 0; kk < c.k; ++kk) s += A(i, kk) * B(kk, j);
+        double r = c.alpha * s + c.beta * double(cm[off + i * ldc + j]) + (c.bias ? double(bias[j]) : 0.0);
+        if (c.act == nn::Act::Relu) r = std::max(r, 0.0);
+        want[i * c.n + j] = r;
+      }
+    cl::Buffer<float> da(ctx(), std::span<const float>(a)), db(ctx(), std::span<const float>(b)),
+        dbias(ctx(), std::span<const float>(bias));
+    auto c_host = with_canaries(cm.size());
+    std::copy(cm.begin(), cm.end(), c_host.begin());
+    cl::Buffer<float> dc(ctx(), std::span<const float>(c_host));
+    gemm.run(c.op_a, c.op_b, c.m, c.n, c.k, c.alpha, nn::mat(da, lda, off), nn::mat(db, ldb, off), c.beta,
+             nn::mat(dc, ldc, off), {c.bias ? &dbias : nullptr, 0, c.act});
+    dc.read(c_host);
+    std::vector<float> got(c.m * c.n);
+    for (std::size_t i = 0; i < c.m; ++i)
+      for (std::size_t j = 0; j < c.n; ++j) got[i * c.n + j] = c_host[off + i * ldc + j];
+    EXPECT_TRUE(all_near(std::span<const float>(got), std::span<const double>(want)))
+        << "m=" << c.m << " n=" << c.n << " k=" << c.k << " opA=" << int(c.op_a) << " opB=" << int(c.op_b);
+    EXPECT_TRUE(canaries_intact(c_host, cm.size()));
+    // The padding between rows (ld > n) must be untouched.
+    for (std::size_t i = 0; i < c.m; ++i)
+      for (std::size_t j = c.n; j < ldc && off + i * ldc + j < cm.size(); ++j)
+        ASSERT_EQ(c_host[off + i * ldc + j], cm[off + i * ldc + j]) << "row padding written at " << i << "," << j;
+  }
+
+  std::vector<Case> cases() {
+    using nn::Act;
+    using nn::Op;
+    return {
+        {Op::N, Op::N, 64, 64, 64, 1.0f, 0.0f, false, Act::None},    // full tiles only
+        {Op::N, Op::N, 37, 45, 19, 1.0f, 0.0f, true, Act::Relu},     // edge tiles in m and n, fused epilogue
+        {Op::N, Op::N, 40, 3, 70, 1.0f, 0.0f, true, Act::None},      // the narrow output layer
+        {Op::N, Op::T, 33, 70, 3, 1.0f, 0.0f, false, Act::None},     // dX = dZ·Wᵀ of the output layer
+        {Op::N, Op::T, 48, 96, 64, 0.5f, 0.0f, false, Act::None},    // dX = dZ·Wᵀ
+        {Op::T, Op::N, 70, 3, 300, 1.0f, 1.0f, false, Act::None},    // dW of the output layer, accumulated
+        {Op::T, Op::N, 64, 64, 1100, 1.0f, 1.0f, false, Act::None},  // dW = Xᵀ·dZ: split-K on small devices
+        {Op::T, Op::T, 20, 30, 40, -2.0f, 0.25f, false, Act::None},  // both transposed
+    };
+  }
+};
+
+TEST_F(GemmTest, OwnKernelMatchesTwin) {
+  nn::Gemm gemm(ctx(), nn::GemmChoice::Own);
+  for (const auto& c : cases()) check(gemm, c);
+}
+
+TEST_F(GemmTest, ClblastMatchesTwin) {
+  nn::Gemm gemm(ctx(), nn::GemmChoice::CLBlast);
+  for (const auto& c : cases()) check(gemm, c);
+}
+
+TEST(GemmChoice, ParsesConfigValues) {
+  EXPECT_EQ(nn::parse_gemm_choice("own"), nn::GemmChoice::Own);
+  EXPECT_EQ(nn::parse_gemm_choice("clblast"), nn::GemmChoice::CLBlast);
+  EXPECT_EQ(nn::parse_gemm_choice("auto"), nn::GemmChoice::Auto);
+  EXPECT_THROW(nn::parse_gemm_choice("cublas"), InputError);
+}
+
+}  // namespace
+}  // namespace clr::test
