@@ -22,7 +22,9 @@ Command add_reference_command(CLI::App& app) {
   cmd->add_option("--width", opt->render.width, "Image width (default: the scene's film)")->check(CLI::Range(1, 65536));
   cmd->add_option("--height", opt->render.height, "Image height (default: the scene's film)")
       ->check(CLI::Range(1, 65536));
-  cmd->add_option("--max-depth", opt->render.max_depth, "Longest path in segments; -1: unbounded")
+  cmd->add_option_function<int>(
+         "--max-depth", [opt](const int& d) { opt->render.max_depth = d; },
+         "Longest path in segments; -1: unbounded (default: the scene integrator's max_depth, else -1)")
       ->check(CLI::Range(-1, 1 << 20));
   cmd->add_option("--seed", opt->render.seed, "Random seed");
   cmd->add_option("-o,--output", opt->output, "Output EXR")->required();

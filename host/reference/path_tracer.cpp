@@ -105,7 +105,7 @@ image::Image render(const geometry::Geometry& geometry, const RenderOptions& opt
   scene::Camera camera = geometry.scene().camera;
   if (options.width > 0) camera.width = options.width;
   if (options.height > 0) camera.height = options.height;
-  const PathTracer tracer(geometry, options.max_depth);
+  const PathTracer tracer(geometry, options.max_depth.value_or(geometry.scene().max_depth));
   image::Image img(camera.width, camera.height);
   std::atomic<std::uint64_t> rays{0}, non_finite{0};
   std::atomic<int> rows_done{0};

@@ -4,6 +4,7 @@
 // draws all its samples from its own PCG32 stream (index y·width + x, stream = seed), so an image depends only on
 // the seed, never on the thread count.
 #include <cstdint>
+#include <optional>
 
 #include "geometry/geometry.hpp"
 #include "image/image.hpp"
@@ -13,7 +14,9 @@ namespace clr::reference {
 struct RenderOptions {
   int width = 0, height = 0;  // 0: the scene's film
   int spp = 16;
-  int max_depth = -1;  // longest path in segments (1: emitters seen directly only); -1: unbounded (roulette ends it)
+  // Longest path in segments (1: emitters seen directly only); -1: unbounded (roulette ends it). Unset: the
+  // scene's integrator max_depth.
+  std::optional<int> max_depth;
   std::uint64_t seed = 0;
   bool progress = false;  // print progress on stderr
 };

@@ -151,8 +151,13 @@ class Loader {
         environment(c);
       } else if (t == "sensor") {
         sensor(c);
-      } else if (t == "integrator" || t == "sampler" || t == "rfilter" || t == "film") {
-        // Read and ignored: clradiosity's own integrators decide how to render.
+      } else if (t == "integrator") {
+        // clradiosity's own integrators decide how to render; only the path length changes what the image
+        // converges to, so it becomes the reference's default (the scenes' reference renders were made with it).
+        const Props p(c);
+        if (p.has("max_depth")) scene_.max_depth = p.integer("max_depth", -1);
+      } else if (t == "sampler" || t == "rfilter" || t == "film") {
+        // Read and ignored, like the rest of the integrator.
       } else {
         c.fail("unsupported element");
       }

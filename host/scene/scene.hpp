@@ -28,6 +28,8 @@ struct Scene {
   std::vector<std::shared_ptr<const Bsdf>> materials;
   std::unique_ptr<Environment> environment;  // null: black background
   Camera camera;
+  // The scene's integrator max_depth (longest path in segments, Mitsuba's convention); -1: unbounded.
+  int max_depth = -1;
 
   const Bsdf& bsdf(const Shape& s) const { return *materials[std::size_t(s.material)]; }
 };

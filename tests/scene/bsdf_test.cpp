@@ -1,0 +1,222 @@
+// Every BSDF's sample() against its pdf() (χ²), its weights against eval()/pdf(), and its eval() against the
+// integral of f·cos over the sphere; delta lobes against the laws they implement.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "scene/bsdfs.hpp"
+#include "scene/chi2.hpp"
+#include "scene/fresnel.hpp"
+#include "scene/named_ior.hpp"
+
+namespace clr::test {
+namespace {
+
+using scene::Microfacet;
+using scene::Rgb;
+using scene::Vec2;
+using scene::Vec3;
+
+Vec3 direction(float theta_degrees, float phi_degrees = 20.0f) {
+  const float t = theta_degrees * scene::kPi / 180.0f, p = phi_degrees * scene::kPi / 180.0f;
+  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
+}
+
+struct Case {
+  std::string name;
+  std::function<std::shared_ptr<const scene::Bsdf>()> make;
+  float theta_o;  // degrees; above 90: wo below the surface
+  // Upper bound of ∫ f·cos dω: 1 for a passive surface, except that radiance leaving a dense medium is scaled up
+  // by η² (the same light spreads over a smaller solid angle outside), so transmission from inside reaches η².
+  float max_albedo = 1.0f;
+};
+
+Microfacet mf(Microfacet::Type t, float alpha) { return {t, alpha}; }
+constexpr auto kBeckmann = Microfacet::Type::beckmann;
+constexpr auto kGgx = Microfacet::Type::ggx;
+const scene::ComplexIor kGold = *scene::conductor_ior("Au");
+
+std::vector<Case> cases() {
+  auto diffuse = [] { return std::make_shared<scene::Diffuse>(Rgb(0.7f, 0.5f, 0.3f)); };
+  auto conductor = [](Microfacet m) {
+    return [m] { return std::make_shared<scene::Conductor>(kGold.eta, kGold.k, Rgb(1.0f), m); };
+  };
+  auto plastic = [](std::optional<Microfacet> m, bool nonlinear) {
+    return [m, nonlinear] {
+      return std::make_shared<scene::Plastic>(1.5f, Rgb(0.6f, 0.3f, 0.2f), Rgb(1.0f), nonlinear, m);
+    };
+  };
+  auto rough_glass = [](Microfacet m) {
+    return [m] {
+      return std::make_shared<scene::Dielectric>(scene::Dielectric::Kind::rough, 1.5f, Rgb(1.0f), Rgb(1.0f), m);
+    };
+  };
+  return {
+      {"diffuse", diffuse, 30},
+      {"twosided_diffuse_back", [=] { return std::make_shared<scene::TwoSided>(diffuse(), diffuse()); }, 130},
+      {"roughconductor_beckmann_0_2", conductor(mf(kBeckmann, 0.2f)), 30},
+      {"roughconductor_beckmann_0_5_grazing", conductor(mf(kBeckmann, 0.5f)), 75},
+      {"roughconductor_ggx_0_2", conductor(mf(kGgx, 0.2f)), 30},
+      {"roughconductor_ggx_0_5_grazing", conductor(mf(kGgx, 0.5f)), 75},
+      {"plastic", plastic(std::nullopt, false), 40},
+      {"plastic_nonlinear", plastic(std::nullopt, true), 70},
+      {"roughplastic_ggx_0_3", plastic(mf(kGgx, 0.3f), false), 40},
+      {"roughplastic_beckmann_0_2", plastic(mf(kBeckmann, 0.2f), true), 60},
+      {"roughdielectric_ggx_outside", rough_glass(mf(kGgx, 0.3f)), 35},
+      {"roughdielectric_ggx_inside", rough_glass(mf(kGgx, 0.3f)), 160, 1.5f * 1.5f},
+      {"roughdielectric_beckmann_outside", rough_glass(mf(kBeckmann, 0.4f)), 60},
+      {"roughdielectric_beckmann_inside", rough_glass(mf(kBeckmann, 0.2f)), 170, 1.5f * 1.5f},
+  };
+}
+
+class BsdfSampling : public ::testing::TestWithParam<Case> {};
+
+TEST_P(BsdfSampling, Chi2MatchesPdf) {
+  const auto bsdf = GetParam().make();
+  const auto r = chi2_test(*bsdf, direction(GetParam().theta_o), 1'000'000, 7);
+  ASSERT_TRUE(r.problem.empty()) << r.problem;
+  // α = 0.01 over the whole suite, Šidák-corrected for the number of BSDFs tested.
+  const double alpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / double(cases().size()));
+  EXPECT_GT(r.p_value, alpha) << "χ² rejects sample() against pdf(): p = " << r.p_value << ", dof " << r.dof;
+}
+
+TEST_P(BsdfSampling, WeightsMatchEvalOverPdfAndIntegrateFCos) {
+  const auto bsdf = GetParam().make();
+  const Vec3 wo = direction(GetParam().theta_o);
+  const Vec2 uv(0.5f);
+  // E[weight] over the non-delta samples must equal ∫ f·cos dω (f·cos from eval, integrated by quadrature).
+  constexpr int kN = 400'000;
+  Pcg32 rng(1, 99);
+  glm::dvec3 sum(0.0), sum2(0.0);
+  for (int i = 0; i < kN; ++i) {
+    const auto bs = bsdf->sample(uv, wo, rng.next_float(), {rng.next_float(), rng.next_float()});
+    if (!bs || bs->delta) continue;
+    const Rgb f = bsdf->eval(uv, wo, bs->wi);
+    const float p = bsdf->pdf(uv, wo, bs->wi);
+    ASSERT_GT(p, 0.0f);
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(bs->weight[c], f[c] / p, 1e-3f * (1.0f + f[c] / p)) << "sample " << i;
+    ASSERT_NEAR(bs->pdf, p, 1e-3f * p);
+    sum += glm::dvec3(bs->weight);
+    sum2 += glm::dvec3(bs->weight) * glm::dvec3(bs->weight);
+  }
+  const auto cells = SphereGrid::integrate([&](const Vec3& w) { return double(bsdf->eval(uv, wo, w).x); });
+  double integral = 0;
+  for (double c : cells) integral += c;
+  const double mean = sum.x / kN, se = std::sqrt(std::max(0.0, sum2.x / kN - mean * mean) / kN);
+  // 5 standard errors of the estimate plus 0.5 % for the quadrature of peaked lobes.
+  EXPECT_NEAR(mean, integral, 5 * se + 0.005 * integral);
+  EXPECT_LE(integral, GetParam().max_albedo + 1e-3) << "a passive surface scatters at most what arrives";
+}
+
+INSTANTIATE_TEST_SUITE_P(All, BsdfSampling, ::testing::ValuesIn(cases()),
+                         [](const ::testing::TestParamInfo<Case>& param_info) { return param_info.param.name; });
+
+// The χ² test must be able to fail: cosine-weighted samples claimed to be uniform over the hemisphere.
+class MislabelledDiffuse final : public scene::Bsdf {
+ public:
+  Rgb eval(const Vec2&, const Vec3&, const Vec3& wi) const override { return Rgb(wi.z > 0 ? wi.z / scene::kPi : 0); }
+  float pdf(const Vec2&, const Vec3&, const Vec3& wi) const override { return wi.z > 0 ? 0.5f / scene::kPi : 0; }
+  std::optional<scene::BsdfSample> sample(const Vec2&, const Vec3&, float, const Vec2& u) const override {
+    const Vec3 wi = scene::sample_cosine_hemisphere(u);
+    return scene::BsdfSample{wi, Rgb(1.0f), 0.5f / scene::kPi, false};
+  }
+  Rgb albedo(const Vec2&) const override { return Rgb(1.0f); }
+  float roughness() const override { return 1.0f; }
+  bool has_non_delta() const override { return true; }
+};
+
+TEST(Chi2, RejectsAPdfThatDoesNotDescribeTheSampler) {
+  const auto r = chi2_test(MislabelledDiffuse(), direction(30), 100'000, 3);
+  EXPECT_LT(r.p_value, 1e-9);
+}
+
+TEST(Fresnel, ConductorWithoutAbsorptionIsDielectric) {
+  for (float eta : {1.2f, 1.5f, 2.4f})
+    for (float c : {0.05f, 0.3f, 0.7f, 1.0f})
+      EXPECT_NEAR(scene::fresnel_conductor(c, Rgb(eta), Rgb(0.0f)).x, scene::fresnel_dielectric(c, eta).reflectance,
+                  1e-5f);
+}
+
+TEST(Fresnel, NormalIncidenceAndTotalInternalReflection) {
+  EXPECT_NEAR(scene::fresnel_dielectric(1.0f, 1.5f).reflectance, 0.04f, 1e-6f);  // ((η−1)/(η+1))²
+  const float critical = std::sqrt(1.0f - 1.0f / (1.5f * 1.5f));                 // cos of the critical angle
+  EXPECT_EQ(scene::fresnel_dielectric(-(critical - 1e-3f), 1.5f).reflectance, 1.0f);
+  EXPECT_LT(scene::fresnel_dielectric(-(critical + 1e-3f), 1.5f).reflectance, 1.0f);
+  const Rgb f0 = scene::fresnel_conductor(1.0f, kGold.eta, kGold.k);
+  for (int c = 0; c < 3; ++c) {
+    const float n = kGold.eta[c], k = kGold.k[c];
+    EXPECT_NEAR(f0[c], ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k), 1e-5f);
+  }
+}
+
+TEST(Fresnel, DiffuseReflectanceConservesEnergyAcrossTheInterface) {
+  // Light leaving a slab diffusely: 1 − F_int = (1 − F_ext)/η² (a consequence of reciprocity and étendue).
+  for (float eta : {1.33f, 1.5f, 2.0f})
+    EXPECT_NEAR(1.0f - scene::diffuse_fresnel_reflectance(1.0f / eta),
+                (1.0f - scene::diffuse_fresnel_reflectance(eta)) / (eta * eta), 1e-4f);
+  EXPECT_NEAR(scene::diffuse_fresnel_reflectance(1.0f), 0.0f, 1e-6f);
+}
+
+TEST(DeltaBsdfs, MirrorReflectsWithConductorFresnel) {
+  const scene::Conductor mirror(kGold.eta, kGold.k, Rgb(0.5f), std::nullopt);
+  const Vec3 wo = direction(50);
+  const auto s = mirror.sample(Vec2(0), wo, 0.3f, Vec2(0.1f, 0.2f));
+  ASSERT_TRUE(s && s->delta);
+  EXPECT_NEAR(glm::length(s->wi - Vec3(-wo.x, -wo.y, wo.z)), 0.0f, 1e-6f);
+  const Rgb f = scene::fresnel_conductor(wo.z, kGold.eta, kGold.k) * 0.5f;
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(s->weight[c], f[c], 1e-6f);
+  EXPECT_EQ(mirror.pdf(Vec2(0), wo, s->wi), 0.0f);
+  EXPECT_FALSE(mirror.has_non_delta());
+}
+
+TEST(DeltaBsdfs, GlassRefractsBySnellAndScalesRadiance) {
+  const scene::Dielectric glass(scene::Dielectric::Kind::smooth, 1.5f, Rgb(1.0f), Rgb(1.0f), std::nullopt);
+  const Vec3 wo = direction(40);
+  const float fresnel = scene::fresnel_dielectric(wo.z, 1.5f).reflectance;
+  const auto r = glass.sample(Vec2(0), wo, 0.5f * fresnel, Vec2(0.5f));
+  ASSERT_TRUE(r && r->delta);
+  EXPECT_GT(r->wi.z, 0.0f);
+  EXPECT_NEAR(r->pdf, fresnel, 1e-6f);
+  const auto t = glass.sample(Vec2(0), wo, 0.99f, Vec2(0.5f));
+  ASSERT_TRUE(t && t->delta);
+  const float sin_o = std::sqrt(1 - wo.z * wo.z), sin_i = std::sqrt(1 - t->wi.z * t->wi.z);
+  EXPECT_LT(t->wi.z, 0.0f);
+  EXPECT_NEAR(sin_o, 1.5f * sin_i, 1e-5f);                              // Snell
+  EXPECT_NEAR(glm::dot(Vec2(wo), Vec2(t->wi)), -sin_o * sin_i, 1e-5f);  // in the plane of incidence, opposite side
+  EXPECT_NEAR(t->weight.x, 1.0f / (1.5f * 1.5f), 1e-5f);                // entering: radiance compressed by 1/η²
+  // From inside, beyond the critical angle, everything reflects.
+  const auto tir = glass.sample(Vec2(0), -direction(60), 0.999f, Vec2(0.5f));
+  ASSERT_TRUE(tir);
+  EXPECT_LT(tir->wi.z, 0.0f);
+  EXPECT_NEAR(tir->pdf, 1.0f, 1e-6f);
+}
+
+TEST(DeltaBsdfs, ThinGlassPassesStraightThroughAndSumsInternalReflections) {
+  const scene::Dielectric thin(scene::Dielectric::Kind::thin, 1.5f, Rgb(1.0f), Rgb(1.0f), std::nullopt);
+  const Vec3 wo = direction(30);
+  const float r = scene::fresnel_dielectric(wo.z, 1.5f).reflectance, t = 1 - r;
+  const float slab = r + t * t * r / (1 - r * r);
+  const auto refl = thin.sample(Vec2(0), wo, 0.0f, Vec2(0.5f));
+  ASSERT_TRUE(refl);
+  EXPECT_NEAR(refl->pdf, slab, 1e-6f);
+  const auto trans = thin.sample(Vec2(0), wo, 0.999f, Vec2(0.5f));
+  ASSERT_TRUE(trans);
+  EXPECT_NEAR(glm::length(trans->wi + wo), 0.0f, 1e-6f);
+  EXPECT_NEAR(trans->pdf, 1 - slab, 1e-6f);
+}
+
+TEST(TwoSided, BackSideMirrorsFront) {
+  const auto front = std::make_shared<scene::Diffuse>(Rgb(0.5f));
+  const auto back = std::make_shared<scene::Diffuse>(Rgb(0.25f));
+  const scene::TwoSided two(front, back);
+  const Vec3 wo = direction(30), wi = direction(60, 200);
+  EXPECT_NEAR(two.eval(Vec2(0), wo, wi).x, 0.5f / scene::kPi * wi.z, 1e-6f);
+  const Vec3 wo_b(wo.x, wo.y, -wo.z), wi_b(wi.x, wi.y, -wi.z);
+  EXPECT_NEAR(two.eval(Vec2(0), wo_b, wi_b).x, 0.25f / scene::kPi * wi.z, 1e-6f);
+  EXPECT_EQ(two.eval(Vec2(0), wo_b, wi).x, 0.0f);                          // no transmission
+  EXPECT_EQ(scene::Diffuse(Rgb(0.5f)).eval(Vec2(0), wo_b, wi_b).x, 0.0f);  // one-sided without the wrapper
+}
+
+}  // namespace
+}  // namespace clr::test
