@@ -18,5 +18,11 @@ void add_device_option(CLI::App& cmd, std::string& spec);
 Command add_devices_command(CLI::App& app);
 Command add_reference_command(CLI::App& app);
 Command add_compare_command(CLI::App& app);
+Command add_train_command(CLI::App& app);
+Command add_render_command(CLI::App& app);
+Command add_residual_command(CLI::App& app);
+
+// `clradiosity` without arguments: train and render the bundled Cornell box (README's first command).
+int run_main_job(double minutes);
 
 }  // namespace clr::cli

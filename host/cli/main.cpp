@@ -17,23 +17,26 @@ void add_device_option(CLI::App& cmd, std::string& spec) {
 
 }  // namespace clr::cli
 
+namespace {
+// Training budget of the main job: short enough for a first run, long enough for a recognisable image.
+constexpr double kMainJobMinutes = 2.0;
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"clradiosity: Importance-Sampling-Guided Neural Radiosity on OpenCL devices", "clradiosity"};
   app.set_version_flag("--version", std::string("clradiosity ") + CLR_VERSION);
   app.require_subcommand(0, 1);
 
   const std::vector<clr::cli::Command> commands = {
-      clr::cli::add_devices_command(app),
-      clr::cli::add_compare_command(app),
-      clr::cli::add_reference_command(app),
+      clr::cli::add_devices_command(app), clr::cli::add_compare_command(app), clr::cli::add_reference_command(app),
+      clr::cli::add_train_command(app),   clr::cli::add_render_command(app),  clr::cli::add_residual_command(app),
   };
 
   try {
     app.parse(argc, argv);
     for (const auto& c : commands)
       if (c.app->parsed()) return c.run();
-    std::cout << app.help();
-    return 0;
+    return clr::cli::run_main_job(kMainJobMinutes);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {

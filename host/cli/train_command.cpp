@@ -1,0 +1,69 @@
+// clradiosity train SCENE.xml [--method nr] [--samples N] [--batch M] [--steps S | --minutes T] [--seed K]
+//                  [--config FILE.json] [--resume] -o RUN_DIR
+#include <iostream>
+
+#include "cl/context.hpp"
+#include "cli/command.hpp"
+#include "common/error.hpp"
+#include "geometry/geometry.hpp"
+#include "radiosity/trainer.hpp"
+#include "scene/scene.hpp"
+
+namespace clr::cli {
+
+Command add_train_command(CLI::App& app) {
+  struct Options {
+    std::string scene, run_dir, config_file, device, method, residual, gemm;
+    int samples = 0, batch = -1;
+    long steps = 0;
+    double minutes = 0, learning_rate = 0;
+    std::int64_t seed = -1;
+    bool resume = false;
+  };
+  auto opt = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("train", "Train a Neural Radiosity model of a scene into RUN_DIR");
+  cmd->add_option("scene", opt->scene, "Mitsuba scene (XML)")->required();
+  cmd->add_option("-o,--output", opt->run_dir, "Run directory (config.json, log.csv, model.clr)")->required();
+  cmd->add_option("--method", opt->method, "nr (vanilla Neural Radiosity)")->check(CLI::IsMember({"nr"}));
+  cmd->add_option("--samples", opt->samples, "Incident directions per point (N, default 4)");
+  cmd->add_option("--batch", opt->batch, "Points per step (M; default chosen for the device)");
+  auto* steps = cmd->add_option("--steps", opt->steps, "Stop after this many steps (in total, when resuming)");
+  cmd->add_option("--minutes", opt->minutes, "Stop after this much training time in this session")->excludes(steps);
+  cmd->add_option("--seed", opt->seed, "Random seed");
+  cmd->add_option("--learning-rate", opt->learning_rate, "Adam learning rate (default 5e-3, ISNR §4.3)");
+  cmd->add_option("--residual", opt->residual, "relative (default) or l2")->check(CLI::IsMember({"relative", "l2"}));
+  cmd->add_option("--gemm", opt->gemm, "Matrix-product backend: auto (timed probe, cached), own, clblast")
+      ->check(CLI::IsMember({"auto", "own", "clblast"}));
+  cmd->add_option("--config", opt->config_file, "Training settings (JSON); flags override it");
+  cmd->add_flag("--resume", opt->resume, "Continue the run in RUN_DIR from its checkpoint");
+  add_device_option(*cmd, opt->device);
+
+  return {cmd, [opt]() {
+            radiosity::TrainConfig config;
+            if (!opt->config_file.empty()) config = radiosity::load_train_config(opt->config_file);
+            if (!opt->method.empty()) config.method = opt->method;
+            if (!opt->residual.empty()) config.residual = opt->residual;
+            if (opt->samples) config.samples = opt->samples;
+            if (opt->batch >= 0) config.batch = opt->batch;
+            if (opt->steps) config.steps = opt->steps;
+            if (opt->minutes > 0) config.minutes = opt->minutes;
+            if (opt->seed >= 0) config.seed = std::uint64_t(opt->seed);
+            if (opt->learning_rate > 0) config.learning_rate = opt->learning_rate;
+            if (!opt->gemm.empty()) config.network["gemm"] = opt->gemm;
+            config.validate();
+            if (config.steps == 0 && config.minutes == 0) throw InputError("give a budget: --steps S or --minutes T");
+
+            const auto scene = scene::load_scene(opt->scene);
+            const geometry::Geometry geometry(scene);
+            cl::Context ctx(cl::select_device(opt->device));
+            radiosity::Trainer trainer(ctx, geometry, config, opt->run_dir, opt->resume);
+            std::cerr << "train: " << opt->scene << " on " << ctx.device().describe() << ", batch "
+                      << trainer.config().batch << " × " << trainer.config().samples << " samples, "
+                      << trainer.network().parameter_count() << " parameters\n";
+            trainer.run();
+            std::cout << "model: " << opt->run_dir << "/model.clr (" << trainer.steps_done() << " steps)\n";
+            return 0;
+          }};
+}
+
+}  // namespace clr::cli

@@ -1,0 +1,25 @@
+#pragma once
+// Rendering from a radiance field (DESIGN.md §2): camera ray → delta bounces followed → at the first modelled
+// surface x, Le(x) + L(x, −d). `spp` jittered camera rays per pixel, box-filtered.
+#include <functional>
+#include <span>
+
+#include "image/image.hpp"
+#include "radiosity/surface_query.hpp"
+
+namespace clr::radiosity {
+
+// Scattered radiance for `rows` raw input rows (nn/encoder.hpp layout) → rows × 3 RGB.
+using RadianceQuery = std::function<void(std::span<const float> raw_rows, std::span<float> rgb)>;
+
+struct RenderSettings {
+  int width = 0, height = 0;  // 0: the scene's film
+  int spp = 4;
+  std::uint64_t seed = 1;
+  int max_delta_bounces = 8;
+  std::size_t rows_per_query = 1 << 16;  // lookups per call of the field: bounds host and device memory
+};
+
+image::Image render(const geometry::Geometry& geometry, const RadianceQuery& field, const RenderSettings& settings);
+
+}  // namespace clr::radiosity

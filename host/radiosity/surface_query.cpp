@@ -1,0 +1,42 @@
+#include "radiosity/surface_query.hpp"
+
+namespace clr::radiosity {
+
+void write_raw_row(const scene::Scene& scene, const geometry::SurfacePoint& p, const Vec3& wo, float* row) {
+  const scene::Bsdf& bsdf = scene.bsdf(scene.shapes[p.shape]);
+  const Rgb albedo = bsdf.albedo(p.uv);
+  const Vec3 values[4] = {p.position, wo, p.frame.n, albedo};
+  for (int v = 0; v < 4; ++v)
+    for (int c = 0; c < 3; ++c) row[3 * v + c] = values[v][c];
+  row[nn::raw::kRoughness] = bsdf.roughness();
+}
+
+PathEnd trace_to_surface(const geometry::Geometry& geometry, geometry::Ray ray, Pcg32& rng, int max_delta_bounces) {
+  const scene::Scene& scene = geometry.scene();
+  PathEnd end;
+  for (int bounce = 0;; ++bounce) {
+    const geometry::Hit hit = geometry.intersect(ray);
+    const Vec3 wo = -glm::normalize(ray.direction);
+    if (!hit.valid()) {
+      if (scene.environment) end.emitted += end.throughput * scene.environment->eval(-wo);
+      return end;
+    }
+    const geometry::SurfacePoint p = geometry.surface(hit);
+    end.emitted += end.throughput * geometry::emitted(scene, p, wo);
+    const scene::BsdfPoint bsdf = p.bsdf(scene);
+    if (bsdf.bsdf->has_non_delta()) {
+      end.at_surface = true;
+      end.point = p;
+      end.wo = wo;
+      return end;
+    }
+    if (bounce == max_delta_bounces) return end;
+    const float u_lobe = rng.next_float();
+    const auto s = bsdf.sample(wo, u_lobe, {rng.next_float(), rng.next_float()});
+    if (!s) return end;
+    end.throughput *= s->weight;
+    ray = geometry::Ray{p.spawn_origin(s->wi), 0.0f, s->wi};
+  }
+}
+
+}  // namespace clr::radiosity

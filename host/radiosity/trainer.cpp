@@ -1,0 +1,190 @@
+#include "radiosity/trainer.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "cl/buffer.hpp"
+#include "common/atomic_file.hpp"
+#include "common/error.hpp"
+#include "common/progress.hpp"
+#include "common/stop_signal.hpp"
+#include "radiosity/trained_model.hpp"
+
+namespace clr::radiosity {
+namespace fs = std::filesystem;
+namespace {
+
+// Grow-only device buffers: re-created only when a step needs more elements than before.
+template <typename T>
+void upload(cl::Context& ctx, cl::Buffer<T>& buf, const std::vector<T>& host) {
+  if (buf.size() < host.size()) buf = cl::Buffer<T>(ctx, host.size());
+  buf.write(host);
+}
+template <typename T>
+void reserve(cl::Context& ctx, cl::Buffer<T>& buf, std::size_t count) {
+  if (buf.size() < count) buf = cl::Buffer<T>(ctx, count);
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot read " + path.string());
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+}  // namespace
+
+int default_batch(const cl::DeviceInfo& device) { return device.type == "gpu" ? 16384 : 4096; }
+
+nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
+                                          const TrainConfig& config) {
+  // The hash grid covers the bounding box of the modelled surfaces, padded a little so points on its faces
+  // are interior to the grid.
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  std::set<std::array<float, 3>> albedos;
+  for (const auto& s : sampler.sample(0x5eed, 4096)) {
+    lo = glm::min(lo, s.point.position);
+    hi = glm::max(hi, s.point.position);
+    albedos.insert({s.albedo.x, s.albedo.y, s.albedo.z});
+  }
+  for (const auto& shape : geometry.scene().shapes)
+    for (const auto& v : shape.mesh.positions) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+  const glm::vec3 pad = 1e-3f * (hi - lo) + 1e-6f;
+  lo -= pad;
+  hi += pad;
+  nn::NetworkConfig base = nn::n_module_config({lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z});
+  // A scene whose modelled surfaces all share one albedo gains nothing from it as an input.
+  base.encoder.albedo = albedos.size() > 1;
+  base.adam.learning_rate = float(config.learning_rate);
+  base.adam.decay = float(config.lr_decay);
+  base.adam.decay_interval = std::uint64_t(config.lr_decay_steps);
+  base.seed = config.seed;
+  nlohmann::json j = nn::to_json(base);
+  j.merge_patch(config.network);
+  return nn::network_config_from_json(j);
+}
+
+Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConfig config, fs::path run_dir,
+                 bool resume)
+    : ctx_(&ctx),
+      geometry_(&geometry),
+      sampler_(geometry.scene()),
+      config_(std::move(config)),
+      run_dir_(std::move(run_dir)),
+      loss_(ctx, config_.residual == "l2" ? nn::LossKind::L2 : nn::LossKind::RelativeL2),
+      non_finite_(ctx, 1),
+      rhs_kernel_(ctx.program({"radiosity.cl"}).kernel("incident_rhs")) {
+  const fs::path model = run_dir_ / "model.clr";
+  if (resume) {
+    if (!fs::exists(model)) throw InputError("--resume: no checkpoint " + model.string());
+    // The run's own settings win; only the stopping rule comes from this invocation.
+    TrainConfig saved = parse_train_config(nlohmann::json::parse(read_text(run_dir_ / "config.json")));
+    saved.steps = config_.steps;
+    saved.minutes = config_.minutes;
+    config_ = saved;
+    network_ = load_network(ctx, model);
+    // The log's last row carries the training time so far, so resumed rows continue its time axis.
+    std::istringstream log(read_text(run_dir_ / "log.csv"));
+    std::string line, last;
+    while (std::getline(log, line))
+      if (!line.empty()) last = line;
+    if (const auto comma = last.find(','); comma != std::string::npos && std::isdigit((unsigned char)last[0]))
+      seconds_before_ = std::stod(last.substr(comma + 1));
+  } else {
+    if (fs::exists(run_dir_) && !fs::is_empty(run_dir_))
+      throw InputError("run directory " + run_dir_.string() + " is not empty (use --resume to continue it)");
+    if (config_.batch == 0) config_.batch = default_batch(ctx.device());
+    config_.network = nn::to_json(radiance_network_config(geometry, sampler_, config_));
+    network_ = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config_.network));
+    fs::create_directories(run_dir_);
+    write_text_atomically(run_dir_ / "config.json", nlohmann::json(config_).dump(2) + "\n");
+    write_text_atomically(run_dir_ / "log.csv", "step,seconds,loss,lookups,non_finite,learning_rate\n");
+  }
+  batch_settings_.points = std::size_t(config_.batch);
+  batch_settings_.samples = std::size_t(config_.samples);
+  non_finite_.fill(0u);
+}
+
+StepStats Trainer::step() {
+  build_training_batch(*geometry_, sampler_, batch_settings_, config_.seed, network_->steps(), batch_);
+  const std::size_t M = batch_.points, N = batch_.samples, K = batch_.lookups();
+  upload(*ctx_, point_rows_, batch_.point_rows);
+  upload(*ctx_, incident_rows_, batch_.incident_rows);
+  upload(*ctx_, weight_, batch_.weight);
+  upload(*ctx_, emitted_, batch_.emitted);
+  upload(*ctx_, lookup_, batch_.lookup);
+  reserve(*ctx_, incident_radiance_, std::max<std::size_t>(1, K) * 3);
+  reserve(*ctx_, rhs_, M * 3);
+  reserve(*ctx_, d_output_, M * 3);
+
+  // sg(L_α) at the incident hits: inference only, no activations kept.
+  if (K) network_->infer(incident_rows_, K, incident_radiance_);
+  rhs_kernel_.args(weight_, emitted_, lookup_, incident_radiance_, unsigned(M), unsigned(N), rhs_, non_finite_)
+      .launch(M);
+  network_->forward_train(point_rows_, M, train_ctx_);
+  // Mean over points and channels, so the learning rate does not depend on the batch size.
+  loss_.evaluate(train_ctx_.output(), rhs_, M * 3, 1.0f / float(M * 3), d_output_);
+  network_->backward(train_ctx_, d_output_);
+  network_->adam_step();
+  StepStats stats;
+  stats.lookups = K;
+  return stats;
+}
+
+void Trainer::save_checkpoint() const {
+  network_->save((run_dir_ / "model.clr").string(), std::to_string(config_.seed));
+}
+
+void Trainer::append_log(const std::string& line) const {
+  std::ofstream out(run_dir_ / "log.csv", std::ios::app);
+  out << line << "\n";
+  if (!out) throw std::runtime_error("cannot append to " + (run_dir_ / "log.csv").string());
+}
+
+void Trainer::run() {
+  install_stop_handlers();
+  const double budget_s = config_.minutes * 60.0;
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  const double total = config_.steps > 0 ? double(config_.steps) : budget_s;
+  const auto first_step = long(network_->steps());
+  Progress progress("train", total);
+  double loss_sum = 0;
+  long loss_steps = 0;
+  std::size_t lookups = 0;
+  std::string last;
+  while (!stop_requested()) {
+    const auto done = long(network_->steps());
+    if (config_.steps > 0 && done >= config_.steps) break;
+    if (budget_s > 0 && elapsed() >= budget_s) break;
+    lookups += step().lookups;
+    ++loss_steps;
+    const long now = long(network_->steps());
+    if (now % config_.log_every == 0) {
+      const nn::LossValue v = loss_.take();
+      loss_sum = v.loss / double(loss_steps);
+      char row[256];
+      std::snprintf(row, sizeof row, "%ld,%.3f,%.6g,%.3f,%u,%.6g", now, seconds_before_ + elapsed(), loss_sum,
+                    double(lookups) / double(loss_steps * config_.batch * config_.samples), v.non_finite,
+                    double(network_->config().adam.learning_rate_at(std::uint64_t(now))));
+      append_log(row);
+      char detail[128];
+      std::snprintf(detail, sizeof detail, "step %ld  loss %.4g  %.2f steps/s", now, loss_sum,
+                    double(now - first_step) / std::max(1e-9, elapsed()));
+      last = detail;
+      loss_steps = 0;
+      lookups = 0;
+    }
+    if (now % config_.checkpoint_every == 0) save_checkpoint();
+    progress.update(config_.steps > 0 ? double(now) : elapsed(), last);
+  }
+  save_checkpoint();
+  progress.finish(last + (stop_requested() ? "  (stopped by signal; checkpoint written)" : ""));
+}
+
+}  // namespace clr::radiosity
