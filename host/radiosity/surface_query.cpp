@@ -25,7 +25,8 @@ PathEnd trace_to_surface(const geometry::Geometry& geometry, geometry::Ray ray, 
     end.emitted += end.throughput * geometry::emitted(scene, p, wo);
     const scene::BsdfPoint bsdf = p.bsdf(scene);
     if (bsdf.bsdf->has_non_delta()) {
-      end.at_surface = true;
+      // The black side of a one-sided surface scatters nothing: the path ends with what it has, no lookup.
+      end.at_surface = bsdf.bsdf->two_sided() || glm::dot(wo, p.frame.n) > 0.0f;
       end.point = p;
       end.wo = wo;
       return end;

@@ -26,7 +26,8 @@ struct PathEnd {
 };
 
 // Follows `ray` until it escapes, lands on a surface with a non-delta lobe, or has made `max_delta_bounces`
-// delta bounces (then it ends dark: such long specular chains carry negligible energy in practice).
+// delta bounces (then it ends dark: such long specular chains carry negligible energy in practice). Landing on
+// the black side of a one-sided surface ends the path without a lookup (at_surface false).
 PathEnd trace_to_surface(const geometry::Geometry& geometry, geometry::Ray ray, Pcg32& rng, int max_delta_bounces);
 
 }  // namespace clr::radiosity

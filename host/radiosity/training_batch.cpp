@@ -32,11 +32,13 @@ void build_training_batch(const geometry::Geometry& geometry, const geometry::Su
     for (std::size_t m = first; m < last; ++m) {
       Pcg32 rng(m, stream_id(seed, step, 1));
       const auto& x = points[m];
-      // ω_o uniform on the sphere: surfaces may be seen from both sides (thin or two-sided geometry), and a
-      // one-sided BSDF's dark back side is part of the radiance field the network must know.
-      const Vec3 wo = scene::sample_uniform_sphere({rng.next_float(), rng.next_float()});
-      write_raw_row(scene, x.point, wo, &batch.point_rows[m * R]);
+      // ω_o uniform over the directions the surface can scatter into: the whole sphere for two-sided BSDFs,
+      // the hemisphere above the shading normal for one-sided ones (their black side is never queried).
       const scene::BsdfPoint bsdf = x.point.bsdf(scene);
+      Vec3 wo = scene::sample_uniform_sphere({rng.next_float(), rng.next_float()});
+      if (!bsdf.bsdf->two_sided() && glm::dot(wo, x.point.frame.n) < 0.0f)
+        wo -= 2.0f * glm::dot(wo, x.point.frame.n) * x.point.frame.n;
+      write_raw_row(scene, x.point, wo, &batch.point_rows[m * R]);
       for (std::size_t n = 0; n < N; ++n) {
         const std::size_t s = m * N + n;
         const float u_lobe = rng.next_float();

@@ -42,6 +42,10 @@ class Bsdf {
   virtual float roughness() const = 0;
   // False for purely specular materials: no light sampling there, no training points (DESIGN.md §2).
   virtual bool has_non_delta() const = 0;
+  // False when the surface is black seen from below its shading normal (wo.z ≤ 0), as Mitsuba's reflective
+  // BSDFs are; true for twosided wrappers and dielectrics. Radiance leaving a black side is exactly zero, so the
+  // trainer neither trains nor queries the network there.
+  virtual bool two_sided() const { return false; }
   // Geometry-level wrappers (Mitsuba's mask and bumpmap) expose their textures; wrappers of wrappers forward.
   virtual const Texture* opacity() const { return nullptr; }
   virtual const BumpMap* bump() const { return nullptr; }

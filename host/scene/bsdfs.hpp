@@ -76,6 +76,7 @@ class Dielectric final : public Bsdf {
   Rgb albedo(const Vec2&) const override { return Rgb(1.0f); }
   float roughness() const override { return mf_ ? mf_->alpha : 0.0f; }
   bool has_non_delta() const override { return kind_ == Kind::rough; }
+  bool two_sided() const override { return true; }
 
  private:
   std::optional<BsdfSample> sample_rough(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const;
@@ -98,6 +99,7 @@ class NestedBsdf : public Bsdf {
   Rgb albedo(const Vec2& uv) const override { return nested_->albedo(uv); }
   float roughness() const override { return nested_->roughness(); }
   bool has_non_delta() const override { return nested_->has_non_delta(); }
+  bool two_sided() const override { return nested_->two_sided(); }
   const Texture* opacity() const override { return nested_->opacity(); }
   const BumpMap* bump() const override { return nested_->bump(); }
 
@@ -115,6 +117,7 @@ class TwoSided final : public NestedBsdf {
   float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
   std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
   bool has_non_delta() const override { return nested_->has_non_delta() || back_->has_non_delta(); }
+  bool two_sided() const override { return true; }
 
  private:
   std::shared_ptr<const Bsdf> back_;

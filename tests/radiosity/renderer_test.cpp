@@ -1,0 +1,73 @@
+// The renderer with a known radiance field: environment lookups, delta chains and the query rows it builds.
+#include "radiosity/renderer.hpp"
+
+#include <gtest/gtest.h>
+
+#include "scene/scene.hpp"
+
+namespace clr::radiosity {
+namespace {
+
+const std::filesystem::path kScenes = std::filesystem::path(CLR_SOURCE_DIR) / "scenes";
+
+TEST(Renderer, FollowsDeltaChainsAndSeesTheEnvironment) {
+  const auto scene = scene::load_scene(kScenes / "mirror-under-sky.xml");
+  const geometry::Geometry geometry(scene);
+  const float field[3] = {0.25f, 0.5f, 0.75f};
+  std::size_t queried = 0;
+  const RadianceQuery query = [&](std::span<const float> rows, std::span<float> rgb) {
+    for (std::size_t r = 0; r < rows.size() / nn::kRawInputs; ++r) {
+      const float* row = &rows[r * nn::kRawInputs];
+      // Every query lands on the panel behind the camera (z = 6, normal −z), looking back down at the mirror.
+      EXPECT_NEAR(row[nn::raw::kPosition + 2], 6.0f, 1e-4f);
+      EXPECT_NEAR(row[nn::raw::kNormal + 2], -1.0f, 1e-5f);
+      EXPECT_LT(row[nn::raw::kDirection + 2], -0.9f);
+      EXPECT_NEAR(row[nn::raw::kAlbedo], 0.2f, 1e-6f);
+      for (int c = 0; c < 3; ++c) rgb[3 * r + c] = field[c];
+    }
+    queried += rows.size() / nn::kRawInputs;
+  };
+  RenderSettings settings;
+  settings.spp = 1;
+  const auto img = render(geometry, query, settings);
+  ASSERT_EQ(img.width, 24);
+  std::size_t sky = 0, mirror = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const float* p = img.pixel(x, y);
+      if (p[0] == 0.5f && p[1] == 0.5f && p[2] == 0.5f) {
+        ++sky;
+      } else {
+        // Mirror (delta, reflectance 0.5) → panel: no emission there, so 0.5 × the field.
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(p[c], 0.5f * field[c], 1e-6f) << x << "," << y;
+        ++mirror;
+      }
+    }
+  EXPECT_GT(sky, 100u);
+  EXPECT_GT(mirror, 100u);
+  EXPECT_EQ(queried, mirror);
+}
+
+TEST(Renderer, OtherResolutionsCoverTheSameView) {
+  const auto scene = scene::load_scene(kScenes / "mirror-under-sky.xml");
+  const geometry::Geometry geometry(scene);
+  const RadianceQuery one = [](std::span<const float>, std::span<float> rgb) {
+    std::fill(rgb.begin(), rgb.end(), 1.0f);
+  };
+  RenderSettings settings;
+  settings.spp = 16;
+  settings.width = settings.height = 12;
+  const auto small = render(geometry, one, settings);
+  settings.width = settings.height = 48;
+  const auto large = render(geometry, one, settings);
+  // The mirror covers the same fraction of the image at any resolution.
+  const auto mean = [](const image::Image& img) {
+    double s = 0;
+    for (float v : img.rgb) s += v;
+    return s / double(img.rgb.size());
+  };
+  EXPECT_NEAR(mean(small), mean(large), 0.01);
+}
+
+}  // namespace
+}  // namespace clr::radiosity
