@@ -48,7 +48,7 @@ Command add_train_command(CLI::App& app) {
             if (opt->steps) config.steps = opt->steps;
             if (opt->minutes > 0) config.minutes = opt->minutes;
             if (opt->seed >= 0) config.seed = std::uint64_t(opt->seed);
-            if (opt->learning_rate > 0) config.learning_rate = opt->learning_rate;
+            if (opt->learning_rate > 0) config.network["adam"]["learning_rate"] = opt->learning_rate;
             if (!opt->gemm.empty()) config.network["gemm"] = opt->gemm;
             config.validate();
             if (config.steps == 0 && config.minutes == 0) throw InputError("give a budget: --steps S or --minutes T");

@@ -17,17 +17,12 @@ void require(bool ok, const char* name, const T& value, const char* rule) {
 }  // namespace
 
 void TrainConfig::validate() const {
-  require(method == "nr" || method == "isnr", "method", method, "nr or isnr");
-  require(is_loss == "ikl" || is_loss == "kl", "is_loss", is_loss, "ikl or kl");
+  require(method == "nr", "method", method, "nr (isnr is not implemented yet)");
   require(residual == "relative" || residual == "l2", "residual", residual, "relative or l2");
   require(samples >= 1 && samples <= 1024, "samples", samples, "in [1, 1024]");
   require(batch >= 0 && batch <= (1 << 22), "batch", batch, "in [1, 4194304] (0 = automatic)");
   require(steps >= 0, "steps", steps, ">= 0");
   require(minutes >= 0 && std::isfinite(minutes), "minutes", minutes, ">= 0");
-  require(learning_rate > 0 && std::isfinite(learning_rate), "learning_rate", learning_rate, "> 0");
-  require(lr_decay > 0 && lr_decay <= 1, "lr_decay", lr_decay, "in (0, 1]");
-  require(lr_decay_steps >= 1, "lr_decay_steps", lr_decay_steps, ">= 1");
-  require(bsdf_fraction >= 0 && bsdf_fraction <= 1, "bsdf_fraction", bsdf_fraction, "in [0, 1]");
   require(log_every >= 1, "log_every", log_every, ">= 1");
   require(checkpoint_every >= 1, "checkpoint_every", checkpoint_every, ">= 1");
   require(network.is_object(), "network", network, "an object");

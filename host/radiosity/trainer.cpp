@@ -60,9 +60,6 @@ nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, co
   nn::NetworkConfig base = nn::n_module_config({lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z});
   // A scene whose modelled surfaces all share one albedo gains nothing from it as an input.
   base.encoder.albedo = albedos.size() > 1;
-  base.adam.learning_rate = float(config.learning_rate);
-  base.adam.decay = float(config.lr_decay);
-  base.adam.decay_interval = std::uint64_t(config.lr_decay_steps);
   base.seed = config.seed;
   nlohmann::json j = nn::to_json(base);
   j.merge_patch(config.network);

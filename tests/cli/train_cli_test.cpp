@@ -1,0 +1,108 @@
+// train / render / residual as a user runs them: signals, bad input and the files a run leaves.
+#include <fcntl.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "cl/device.hpp"
+#include "support/run_cli.hpp"
+
+namespace clr::test {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+const std::string kBox = (fs::path(CLR_SOURCE_DIR) / "scenes" / "cornell-box.xml").string();
+
+class TrainCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL device";
+    dir = fs::temp_directory_path() / ("clr_train_cli_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    config = (dir / "small.json").string();
+    std::ofstream(config) << R"({"batch": 256, "log_every": 5, "network": {"width": 32, "hidden_layers": 2,
+        "encoder": {"grid": {"levels": 4, "log2_table": 12}}}})";
+  }
+  void TearDown() override { fs::remove_all(dir); }
+  fs::path dir;
+  std::string config;
+};
+
+std::size_t lines_in(const fs::path& p) {
+  std::ifstream in(p);
+  return std::size_t(std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n'));
+}
+
+TEST_F(TrainCli, InterruptWritesACheckpointAndExitsCleanly) {
+  const fs::path run = dir / "run";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    dup2(null, 1);
+    dup2(null, 2);
+    execl(CLR_CLI_PATH, "clradiosity", "train", kBox.c_str(), "--steps", "100000000", "--config", config.c_str(), "-o",
+          run.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait until the run has logged a few rows, then interrupt it as Ctrl-C would.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (lines_in(run / "log.csv") < 3 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_GE(lines_in(run / "log.csv"), 3u) << "training did not start logging";
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  ASSERT_TRUE(fs::exists(run / "model.clr"));
+  for (const auto& entry : fs::directory_iterator(run))
+    EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << "left behind: " << entry.path();
+
+  // The checkpoint is usable: render from it and resume it.
+  auto r = run_cli("render " + kBox + " --model " + run.string() + " --width 16 --height 16 -o " +
+                   (dir / "out.exr").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "out.exr"));
+  r = run_cli("train " + kBox + " --resume --steps 1 -o " + run.string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;  // already past 1 step: resumes, writes the checkpoint, stops
+}
+
+TEST_F(TrainCli, BadInputExitsTwoWithOneLine) {
+  const std::string run = (dir / "run").string();
+  fs::create_directories(dir / "empty");
+  std::ofstream(dir / "empty" / "model.clr") << "not a checkpoint";
+  const std::string out = " -o " + (dir / "x.exr").string();
+  const std::pair<std::string, std::string> cases[] = {
+      {"train " + kBox + " -o " + run, "--steps"},
+      {"train " + (dir / "missing.xml").string() + " --steps 1 -o " + run, "missing.xml"},
+      {"train " + kBox + " --steps 1 --samples 0 -o " + run, "samples"},
+      {"train " + kBox + " --steps 1 --config " + (dir / "nope.json").string() + " -o " + run, "nope.json"},
+      {"train " + kBox + " --steps 1 --resume -o " + run, "checkpoint"},
+      {"train " + kBox + " --steps 1 --device nosuch -o " + run, "nosuch"},
+      {"render " + kBox + " --model " + (dir / "none").string() + out, "none"},
+      {"render " + kBox + " --model " + (dir / "empty").string() + out, "model.clr"},
+      {"render " + kBox + " --model " + run + " --camera 0,0,0,0,0,0,0,1,0,40" + out, "--camera"},
+      {"residual " + kBox + " --model " + (dir / "empty").string(), "model.clr"},
+  };
+  for (const auto& [args, culprit] : cases) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_THAT(r.err, HasSubstr(culprit)) << args;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "x.exr"));
+}
+
+}  // namespace
+}  // namespace clr::test
