@@ -238,3 +238,11 @@ __kernel void gemm_narrow_tn(uint M, uint N, uint K, __global const float* A, ui
   for (uint r = 0; r < 16 && i0 + r < M; ++r)
     for (uint j = 0; j < N; ++j) p[(i0 + r) * N + j] = o[j][r];
 }
+
+// C = 0 over rows × cols (ld). CLBlast computes alpha·AB + beta·C even for beta = 0, so a C that holds garbage
+// (a fresh buffer may hold NaN bit patterns) must be cleared first.
+__kernel void zero_matrix(uint rows, uint cols, __global float* C, uint c_off, uint ld) {
+  const uint j = (uint)get_global_id(0);
+  const uint i = (uint)get_global_id(1);
+  if (i < rows && j < cols) C[c_off + i * ld + j] = 0.0f;
+}

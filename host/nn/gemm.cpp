@@ -71,6 +71,7 @@ Gemm::Gemm(cl::Context& ctx, GemmChoice choice) : ctx_(&ctx) {
   bias_act_.emplace(program.kernel("bias_act"));
   narrow_nn_.emplace(program.kernel("gemm_narrow_nn"));
   narrow_tn_.emplace(program.kernel("gemm_narrow_tn"));
+  zero_.emplace(program.kernel("zero_matrix"));
 }
 
 cl::Buffer<float>& Gemm::scratch(std::optional<cl::Buffer<float>>& slot, std::size_t count) {
@@ -185,6 +186,7 @@ void Gemm::run_clblast(Op op_a, Op op_b, std::size_t m, std::size_t n, std::size
                        float beta, MatRef c, const Epilogue& epilogue) {
   auto t = [](Op o) { return o == Op::N ? clblast::Transpose::kNo : clblast::Transpose::kYes; };
   cl_command_queue queue = ctx_->queue();
+  if (beta == 0.0f) zero_->args(u32(m), u32(n), *c.buf, u32(c.offset), u32(c.ld)).launch({n, m}, {16, 4});
   const auto status =
       clblast::Gemm<float>(clblast::Layout::kRowMajor, t(op_a), t(op_b), m, n, k, alpha, a.buf->get(), a.offset, a.ld,
                            b.buf->get(), b.offset, b.ld, beta, c.buf->get(), c.offset, c.ld, &queue, nullptr);

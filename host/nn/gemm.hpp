@@ -60,7 +60,7 @@ class Gemm {
   cl::Context* ctx_;
   GemmBackend backend_;
   std::size_t tm_ = 8, tn_ = 32;
-  std::optional<cl::Kernel> gemm_, reduce_, transpose_, bias_act_, narrow_nn_, narrow_tn_;
+  std::optional<cl::Kernel> gemm_, reduce_, transpose_, bias_act_, narrow_nn_, narrow_tn_, zero_;
   std::optional<cl::Buffer<float>> transposed_b_, partials_, narrow_bt_;
 };
 
