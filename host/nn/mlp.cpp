@@ -136,11 +136,12 @@ void Mlp::bias_grad(std::size_t rows, std::size_t cols, MatRef dy, const cl::Buf
   act_backward_
       .args(u32(rows), u32(cols), u32(per_item), *dy.buf, u32(dy.offset), u32(dy.ld), saved, u32(s_off), u32(s_ld), act,
             *dz.buf, u32(dz.offset), u32(dz.ld), partial)
-      .launch({cols, groups}, {std::min<std::size_t>(cols, 16), 1});
+      .launch({(cols + 15) / 16, groups}, {1, 16});
   bias_reduce_.args(u32(cols), u32(groups), partial, grads_, u32(bias_off)).launch(cols, 16);
 }
 
-void Mlp::backward(MlpContext& c, const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input) {
+void Mlp::backward(MlpContext& c, const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input,
+                   std::size_t d_input_cols) {
   if (!c.input) throw std::logic_error("mlp: backward without forward_train");
   const std::size_t H = config_.hidden_layers, W = config_.width, O = config_.outputs, I = config_.inputs;
   const bool abs_out = config_.output_activation == OutputActivation::Abs;
@@ -159,8 +160,8 @@ void Mlp::backward(MlpContext& c, const cl::Buffer<float>& d_output, cl::Buffer<
       // dX of layer l is dY of layer l-1 (or dL/dinput); ping-pong between two workspaces.
       cl::Buffer<float>* dx_buf = last ? d_input : &workspace(1 + (l % 2), c.chunk_rows * W);
       const MatRef dx = last ? mat(*d_input, I, r0 * I) : mat(*dx_buf, W);
-      gemm_->run(Op::N, Op::T, cr, fan_in(l), fan_out(l), 1.0f, dz, mat(params_, fan_out(l), weight_offset(l)), 0.0f,
-                 dx);
+      const std::size_t cols = last && d_input_cols ? std::min(d_input_cols, I) : fan_in(l);
+      gemm_->run(Op::N, Op::T, cr, cols, fan_out(l), 1.0f, dz, mat(params_, fan_out(l), weight_offset(l)), 0.0f, dx);
       if (last) break;
       // Hidden layer l-1: ReLU mask from its saved output, in place.
       const std::size_t h = l - 1;

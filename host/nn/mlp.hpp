@@ -66,8 +66,10 @@ class Mlp {
   void forward_train(const cl::Buffer<float>& input, std::size_t rows, MlpContext& ctx);
   MlpContext forward_train(const cl::Buffer<float>& input, std::size_t rows);
   // Accumulates dL/dparams into grads() from d_output [rows × outputs]; writes dL/dinput into *d_input
-  // ([rows × inputs]) when given (needed when the input encoding is trainable).
-  void backward(MlpContext& ctx, const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input = nullptr);
+  // ([rows × inputs]) when given (needed when the input encoding is trainable), only its first `d_input_cols`
+  // columns when that is set (the trainable part of an encoding comes first; the rest needs no gradient).
+  void backward(MlpContext& ctx, const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input = nullptr,
+                std::size_t d_input_cols = 0);
   // Inference without saved activations: output rows [out_row, out_row + rows) of a [· × outputs] buffer.
   void infer(const cl::Buffer<float>& input, std::size_t rows, cl::Buffer<float>& output, std::size_t out_row = 0);
 

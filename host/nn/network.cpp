@@ -174,7 +174,8 @@ void Network::backward(NetworkContext& c, const cl::Buffer<float>& d_output) {
     c.d_encoded = cl::Buffer<float>();
     c.d_encoded = cl::Buffer<float>(*ctx_, c.rows * encoder_.outputs());
   }
-  mlp_.backward(c.mlp, d_output, grid ? &c.d_encoded : nullptr);
+  // Only the hash-grid columns (first in the encoding) carry trainable parameters below them.
+  mlp_.backward(c.mlp, d_output, grid ? &c.d_encoded : nullptr, grid ? grid->outputs() : 0);
   if (grid) encoder_.backward(*c.raw, 0, c.rows, c.d_encoded);
 }
 
