@@ -4,7 +4,8 @@
 One step = forward of B training points through hash grid + SH(w_o) + SH(n) + albedo -> 4x512 ReLU -> 3, abs;
 an inference forward of 4·B incident points without gradient; relative L2 loss against a fixed target;
 backward; Adam over every parameter (PyTorch's dense Adam, as a straightforward implementation would).
-Prints one JSON object: {"step_ms": median over the timed steps, "threads": torch threads}.
+Prints one JSON object: {"step_ms": median over the timed steps with the faster thread count, "threads": that
+count, "step_ms_by_threads": {count: ms}}.
 """
 import argparse
 import json
@@ -35,13 +36,14 @@ class HashGrid(torch.nn.Module):
         self.table = torch.nn.Parameter(torch.empty(total, features).uniform_(-1e-4, 1e-4))
 
     def forward(self, x):  # x in [0, 1]^3
-        feats = []
+        # All levels and corners in one gather (and so one scatter-add in backward): the fastest plain-PyTorch
+        # formulation we know, so the anchor is not handicapped by 96 separate indexing ops.
+        idx, wts = [], []
         for res, dense, offset, entries in self.levels:
             pos = x * res
             c = torch.clamp(torch.floor(pos), max=res - 1)
             t = pos - c
             ci = c.long()
-            acc = 0
             for corner in range(8):
                 d = [(corner >> i) & 1 for i in range(3)]
                 v = [ci[:, i] + d[i] for i in range(3)]
@@ -50,12 +52,16 @@ class HashGrid(torch.nn.Module):
                     w = w * (t[:, i] if d[i] else 1 - t[:, i])
                 if dense:
                     side = res + 1
-                    idx = v[0] + side * (v[1] + side * v[2])
+                    e = v[0] + side * (v[1] + side * v[2])
                 else:
-                    idx = (v[0] * PRIMES[0] ^ v[1] * PRIMES[1] ^ v[2] * PRIMES[2]) & (entries - 1)
-                acc = acc + w[:, None] * self.table[offset + idx]
-            feats.append(acc)
-        return torch.cat(feats, dim=1)
+                    e = (v[0] * PRIMES[0] ^ v[1] * PRIMES[1] ^ v[2] * PRIMES[2]) & (entries - 1)
+                idx.append(e + offset)
+                wts.append(w)
+        L = len(self.levels)
+        idx = torch.stack(idx, dim=1)  # [B, L·8]
+        wts = torch.stack(wts, dim=1)
+        f = self.table[idx] * wts[:, :, None]  # [B, L·8, F]
+        return f.view(x.shape[0], L, 8, -1).sum(dim=2).reshape(x.shape[0], -1)
 
 
 def sh16(d):
@@ -108,8 +114,19 @@ def main():
     p.add_argument("--hidden", type=int, default=4)
     p.add_argument("--steps", type=int, default=5)
     a = p.parse_args()
-    # Every core, as our OpenCL device uses (this machine's OpenMP default is sometimes 1 thread).
-    torch.set_num_threads(os.cpu_count() or 1)
+    # Our OpenCL device uses every core. PyTorch's OpenMP threads spin-wait, which on a shared, busy machine can
+    # make every small op hundreds of times slower than one thread; so the anchor is the faster of all cores
+    # and one thread, measured in the same run.
+    results = {}
+    for threads in sorted({os.cpu_count() or 1, 1}, reverse=True):
+        torch.set_num_threads(threads)
+        results[threads] = time_step(a)
+    best = min(results, key=results.get)
+    print(json.dumps({"step_ms": results[best], "threads": best,
+                      "step_ms_by_threads": {str(t): ms for t, ms in results.items()}}))
+
+
+def time_step(a):
     gen = torch.Generator().manual_seed(1)
     torch.manual_seed(1)
     net = NModule(a)
@@ -135,7 +152,7 @@ def main():
         step()
         times.append(time.perf_counter() - t0)
     times.sort()
-    print(json.dumps({"step_ms": 1000 * times[len(times) // 2], "threads": torch.get_num_threads()}))
+    return 1000 * times[len(times) // 2]
 
 
 if __name__ == "__main__":
