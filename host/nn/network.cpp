@@ -242,7 +242,7 @@ std::string Network::load(const std::string& path) {
     g->params().write(c.tensor(path, "grid.table", g->params().size()));
     g->adam().first_moment().write(c.tensor(path, "grid.adam.m", g->params().size()));
     g->adam().second_moment().write(c.tensor(path, "grid.adam.v", g->params().size()));
-    g->grads().fill(0.0f);
+    g->clear_gradient();
     g->touched().fill(std::uint8_t(0));
     g->adam().set_steps(c.step);
   }
