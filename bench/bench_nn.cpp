@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -17,6 +19,9 @@
 #include "cl/context.hpp"
 #include "cl/device.hpp"
 #include "nn/gemm.hpp"
+#include "nn/loss.hpp"
+#include "nn/mlp.hpp"
+#include "nn/network.hpp"
 
 using namespace clr;
 using Clock = std::chrono::steady_clock;
@@ -49,6 +54,43 @@ double fma_peak_gflops(cl::Context& ctx) {
     ctx.finish();
   });
   return double(items) * iters * 8 * 16 * 2 / t * 1e-9;
+}
+
+std::vector<float> random_raw(std::size_t rows, std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::normal_distribution<float> n01;
+  std::vector<float> raw(rows * nn::kRawInputs);
+  for (std::size_t r = 0; r < rows; ++r) {
+    float* row = &raw[r * nn::kRawInputs];
+    for (std::size_t c = 0; c < nn::kRawInputs; ++c) row[c] = u(rng);
+    for (std::size_t s : {nn::raw::kDirection, nn::raw::kNormal}) {
+      float v[3] = {n01(rng), n01(rng), n01(rng)};
+      const float len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      for (int i = 0; i < 3; ++i) row[s + i] = v[i] / len;
+    }
+  }
+  return raw;
+}
+
+// The PyTorch anchor's step time in ms, or a negative value when python3 + torch are not available.
+double torch_anchor_ms(std::size_t batch) {
+  const std::string script = std::string(CLR_SOURCE_DIR) + "/bench/torch_anchor.py";
+  for (const char* py : {"python3", "/usr/bin/python3"}) {
+    if (std::system((std::string(py) + " -c 'import torch' >/dev/null 2>&1").c_str()) != 0) continue;
+    const std::string cmd = std::string(py) + " " + script + " --batch " + std::to_string(batch);
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) continue;
+    std::string out;
+    char buf[256];
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    if (pclose(p) != 0) continue;
+    try {
+      return nlohmann::json::parse(out).at("step_ms").get<double>();
+    } catch (const std::exception&) {
+      continue;
+    }
+  }
+  return -1.0;
 }
 
 }  // namespace
@@ -117,6 +159,100 @@ int main(int argc, char** argv) {
             rows, nn::to_string(g.backend()).c_str(), gf, 100 * gf / peak, blas, gf / blas);
     }
   }
-  if (json) std::cout << nlohmann::json{{"gemm", gemm_rows}}.dump() << "\n";
+  // The I-Module's MLP (59 → 3 × 64 → 32) at inference: the fused one-launch kernel against per-layer GEMMs.
+  nlohmann::json small_json;
+  {
+    const std::size_t rows = quick ? 16384 : 65536;
+    nn::Gemm g(ctx, nn::GemmChoice::Own);
+    nn::MlpConfig mc;
+    mc.inputs = 59;
+    mc.width = 64;
+    mc.hidden_layers = 3;
+    mc.outputs = 32;
+    std::vector<float> x(rows * mc.inputs);
+    for (auto& v : x) v = u(rng);
+    cl::Buffer<float> dx(ctx, std::span<const float>(x)), out(ctx, rows * mc.outputs);
+    double ms[2];
+    for (int fused = 1; fused >= 0; --fused) {
+      mc.fused_small = fused == 1;
+      nn::Mlp m(ctx, g, mc, 1);
+      auto run = [&] {
+        m.infer(dx, rows, out);
+        ctx.finish();
+      };
+      run();
+      ms[fused] = 1000 * best_of(5, run);
+    }
+    small_json = {{"rows", rows}, {"fused_ms", ms[1]}, {"layers_ms", ms[0]}};
+    if (!json)
+      std::printf("I-Module MLP inference, %zu rows: fused %.2f ms, per-layer GEMMs %.2f ms\n", rows, ms[1], ms[0]);
+  }
+
+  // One N-Module training step (DESIGN.md §2): forward of B points, inference of N·B incident points, relative L2
+  // loss, backward, Adam over the MLP and the touched hash-grid entries.
+  const std::size_t B = quick ? 4096 : 16384, N = 4;
+  auto cfg = nn::n_module_config({0, 0, 0}, {1, 1, 1});
+  cfg.gemm = nn::GemmChoice::Auto;
+  nn::Network net(ctx, cfg);
+  const auto raw = random_raw(B, rng), incident = random_raw(N * B, rng);
+  std::vector<float> target(B * 3);
+  for (auto& t : target) t = std::uniform_real_distribution<float>(0.0f, 1.0f)(rng);
+  cl::Buffer<float> draw(ctx, std::span<const float>(raw)), dinc(ctx, std::span<const float>(incident)),
+      dt(ctx, std::span<const float>(target)), grad(ctx, B * 3), li(ctx, N * B * 3);
+  nn::Loss loss(ctx, nn::LossKind::RelativeL2);
+  nn::NetworkContext c;
+  double t_fwd = 0, t_inf = 0, t_bwd = 0, t_adam = 0;
+  auto step = [&](bool timed) {
+    auto t0 = Clock::now();
+    net.forward_train(draw, B, c);
+    ctx.finish();
+    if (timed) t_fwd += seconds_since(t0);
+    t0 = Clock::now();
+    net.infer(dinc, N * B, li);
+    ctx.finish();
+    if (timed) t_inf += seconds_since(t0);
+    t0 = Clock::now();
+    loss.evaluate(c.output(), dt, B * 3, 1.0f / float(B * 3), grad);
+    net.backward(c, grad);
+    ctx.finish();
+    if (timed) t_bwd += seconds_since(t0);
+    t0 = Clock::now();
+    net.adam_step();
+    ctx.finish();
+    if (timed) t_adam += seconds_since(t0);
+  };
+  step(false);
+  step(false);
+  ctx.reset_peak();
+  const int reps = quick ? 2 : 5;
+  std::vector<double> times;
+  for (int i = 0; i < reps; ++i) {
+    const auto t0 = Clock::now();
+    step(true);
+    times.push_back(seconds_since(t0));
+  }
+  std::sort(times.begin(), times.end());
+  const double ours_ms = 1000 * times[times.size() / 2];
+  const double torch_ms = torch_anchor_ms(B);
+  if (!json) {
+    std::printf("N-Module step (hash grid %zux%zu T=2^%zu + 4x512 MLP, B=%zu, +%zu·B inference), GEMM %s:\n",
+                cfg.encoder.grid->levels, cfg.encoder.grid->features, cfg.encoder.grid->log2_table, B, N,
+                nn::to_string(net.gemm().backend()).c_str());
+    std::printf(
+        "  ours    %8.1f ms (median of %d; forward %.0f, inference %.0f, loss+backward %.0f, adam %.0f ms avg)\n",
+        ours_ms, reps, 1000 * t_fwd / reps, 1000 * t_inf / reps, 1000 * t_bwd / reps, 1000 * t_adam / reps);
+    std::printf("  peak device memory of a step: %.1f MiB (%zu parameters)\n",
+                double(ctx.peak_bytes()) / (1024.0 * 1024.0), net.parameter_count());
+    if (torch_ms > 0)
+      std::printf("  PyTorch %8.1f ms (bench/torch_anchor.py, CPU)  ->  ours is %.2fx faster\n", torch_ms,
+                  torch_ms / ours_ms);
+    else
+      std::printf("  PyTorch anchor unavailable (python3 with torch not importable)\n");
+  }
+  if (json) {
+    nlohmann::json step_json = {{"ours_ms", ours_ms},
+                                {"pytorch_ms", torch_ms > 0 ? nlohmann::json(torch_ms) : nlohmann::json()}};
+    std::cout << nlohmann::json{{"gemm", gemm_rows}, {"step", step_json}, {"small_mlp", small_json}}.dump() << "\n";
+  }
   return 0;
 }

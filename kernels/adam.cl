@@ -3,11 +3,8 @@
 // clearing pass before the next backward. Non-finite gradient values are dropped (that element is not updated
 // this step) and counted (DESIGN.md §7).
 // c1 = 1 / (1 − β1^t), c2 = 1 / (1 − β2^t): bias corrections, computed in double on the host.
-inline void adam_update(uint i, __global float* p, __global float* g, __global float* m, __global float* v, float lr,
-                        float b1, float b2, float eps, float wd, float c1, float c2,
-                        volatile __global uint* non_finite) {
-  const float gi = g[i];
-  g[i] = 0.0f;
+inline void adam_apply(uint i, float gi, __global float* p, __global float* m, __global float* v, float lr, float b1,
+                       float b2, float eps, float wd, float c1, float c2, volatile __global uint* non_finite) {
   if (!isfinite(gi)) {
     atomic_inc(non_finite);
     return;
@@ -17,6 +14,14 @@ inline void adam_update(uint i, __global float* p, __global float* g, __global f
   m[i] = mi;
   v[i] = vi;
   p[i] -= lr * (mi * c1 / (sqrt(vi * c2) + eps) + wd * p[i]);
+}
+
+inline void adam_update(uint i, __global float* p, __global float* g, __global float* m, __global float* v, float lr,
+                        float b1, float b2, float eps, float wd, float c1, float c2,
+                        volatile __global uint* non_finite) {
+  const float gi = g[i];
+  g[i] = 0.0f;
+  adam_apply(i, gi, p, m, v, lr, b1, b2, eps, wd, c1, c2, non_finite);
 }
 
 __kernel void adam_step(uint n, __global float* p, __global float* g, __global float* m, __global float* v, float lr,
@@ -38,4 +43,20 @@ __kernel void adam_step_sparse(uint entries, uint features, __global uchar* touc
   touched[e] = 0;
   for (uint f = 0; f < features; ++f)
     adam_update(e * features + f, p, g, m, v, lr, b1, b2, eps, wd, c1, c2, non_finite);
+}
+
+// The same lazy update for a table whose gradient is int64 fixed point in units of 2^-40 (kernels/hashgrid.cl).
+__kernel void adam_step_sparse_fixed(uint entries, uint features, __global uchar* touched, __global float* p,
+                                     __global long* g, __global float* m, __global float* v, float lr, float b1,
+                                     float b2, float eps, float wd, float c1, float c2,
+                                     volatile __global uint* non_finite) {
+  const uint e = (uint)get_global_id(0);
+  if (e >= entries || !touched[e]) return;
+  touched[e] = 0;
+  for (uint f = 0; f < features; ++f) {
+    const uint i = e * features + f;
+    const float gi = convert_float(g[i]) * 0x1p-40f;
+    g[i] = 0;
+    adam_apply(i, gi, p, m, v, lr, b1, b2, eps, wd, c1, c2, non_finite);
+  }
 }

@@ -35,7 +35,7 @@ inline floatV apply_act_v(floatV x, uint act) { return act == ACT_RELU ? fmax(x,
 __kernel void gemm_own(uint M, uint N, uint K, float alpha, __global const float* A, uint a_off, uint a_rs, uint a_cs,
                        __global const float* B, uint b_off, uint ldb, float beta, __global float* C, uint c_off,
                        uint ldc, uint k_slice, uint c_slice, __global const float* bias, uint bias_off, uint use_bias,
-                       uint act) {
+                       uint act, uint b_padded) {
   const uint tiles_m = (M + TM - 1) / TM;
   const uint n0 = (uint)get_global_id(0) * TN;
   const uint gm = (uint)get_global_id(1);
@@ -46,12 +46,20 @@ __kernel void gemm_own(uint M, uint N, uint K, float alpha, __global const float
   const uint ke = min(K, kb + k_slice);
   __global float* Cs = C + c_off + slice * c_slice;
 
-  if (m0 + TM <= M && n0 + TN <= N) {
+  const uint mm = min((uint)TM, M - m0);
+  const uint nn = min((uint)TN, N - n0);
+  // Vector path: full column tiles, or partial ones when B has TN floats of padding after its last row
+  // (b_padded, the host's transposed copies), whose extra lanes are computed and dropped. Rows past M re-read
+  // row M-1 (always in bounds) and are not stored, so a partial row tile costs no scalar code.
+  if (nn == TN || b_padded) {
     floatV acc[TM][NV];
 #pragma unroll
     for (uint i = 0; i < TM; ++i)
 #pragma unroll
       for (uint v = 0; v < NV; ++v) acc[i][v] = (floatV)(0.0f);
+    uint roff[TM];
+#pragma unroll
+    for (uint i = 0; i < TM; ++i) roff[i] = min(i, mm - 1) * a_rs;
     __global const float* ap = A + a_off + m0 * a_rs + kb * a_cs;
     __global const float* bp = B + b_off + kb * ldb + n0;
     for (uint k = kb; k < ke; ++k) {
@@ -60,7 +68,7 @@ __kernel void gemm_own(uint M, uint N, uint K, float alpha, __global const float
       for (uint v = 0; v < NV; ++v) b[v] = vloadV(v, bp);
 #pragma unroll
       for (uint i = 0; i < TM; ++i) {
-        const floatV a = (floatV)(ap[i * a_rs]);
+        const floatV a = (floatV)(ap[roff[i]]);
 #pragma unroll
         for (uint v = 0; v < NV; ++v) acc[i][v] = fma(a, b[v], acc[i][v]);
       }
@@ -69,21 +77,31 @@ __kernel void gemm_own(uint M, uint N, uint K, float alpha, __global const float
     }
 #pragma unroll
     for (uint i = 0; i < TM; ++i) {
+      if (i >= mm) break;
       __global float* cp = Cs + (m0 + i) * ldc + n0;
+      if (nn == TN) {
 #pragma unroll
-      for (uint v = 0; v < NV; ++v) {
-        floatV r = alpha * acc[i][v];
-        // beta == 0 must not read C: it may hold garbage (or NaN) that 0·C would propagate.
-        if (beta != 0.0f) r += beta * vloadV(v, cp);
-        if (use_bias) r += vloadV(v, bias + bias_off + n0);
-        vstoreV(apply_act_v(r, act), v, cp);
+        for (uint v = 0; v < NV; ++v) {
+          floatV r = alpha * acc[i][v];
+          // beta == 0 must not read C: it may hold garbage (or NaN) that 0·C would propagate.
+          if (beta != 0.0f) r += beta * vloadV(v, cp);
+          if (use_bias) r += vloadV(v, bias + bias_off + n0);
+          vstoreV(apply_act_v(r, act), v, cp);
+        }
+      } else {
+        float t[TN];
+#pragma unroll
+        for (uint v = 0; v < NV; ++v) vstoreV(acc[i][v], v, t);
+        for (uint j = 0; j < nn; ++j) {
+          float r = alpha * t[j];
+          if (beta != 0.0f) r += beta * cp[j];
+          if (use_bias) r += bias[bias_off + n0 + j];
+          cp[j] = apply_act(r, act);
+        }
       }
     }
   } else {
-    // Edge tile: fewer rows or columns than a full tile. Scalar, with the column loop bounded at run time so
-    // narrow matrices (the 3-wide output layer) do not pay for a full TN-wide tile.
-    const uint mm = min((uint)TM, M - m0);
-    const uint nn = min((uint)TN, N - n0);
+    // Partial column tile of an unpadded B: scalar, the column loop bounded at run time.
     float acc[TM * TN];
     for (uint i = 0; i < TM * TN; ++i) acc[i] = 0.0f;
     for (uint k = kb; k < ke; ++k) {
@@ -134,4 +152,97 @@ __kernel void bias_act(uint rows, uint cols, __global float* Y, uint y_off, uint
   if (i >= rows || j >= cols) return;
   __global float* p = Y + y_off + i * ld + j;
   *p = apply_act(*p + bias[bias_off + j], act);
+}
+
+// Products with at most 4 output columns (the radiance output layer), where a TN-wide register tile would waste
+// 90 % of its work. Both kernels vectorise along the long dimension instead.
+//
+// gemm_narrow_nn: C[m × n] = act(alpha · A·B + beta · C + bias), A row-major (lda), Bt = Bᵀ packed as [4 × K]
+// with rows ≥ n zero. One work-item per row of C: 4 float16 dot-product accumulators along k.
+__kernel void gemm_narrow_nn(uint M, uint N, uint K, float alpha, __global const float* A, uint a_off, uint lda,
+                             __global const float* Bt, float beta, __global float* C, uint c_off, uint ldc,
+                             __global const float* bias, uint bias_off, uint use_bias, uint act) {
+  const uint i = (uint)get_global_id(0);
+  if (i >= M) return;
+  __global const float* a = A + a_off + i * lda;
+  float16 acc0 = (float16)(0.0f), acc1 = acc0, acc2 = acc0, acc3 = acc0;
+  uint k = 0;
+  for (; k + 16 <= K; k += 16) {
+    const float16 av = vload16(0, a + k);
+    acc0 = fma(av, vload16(0, Bt + k), acc0);
+    acc1 = fma(av, vload16(0, Bt + K + k), acc1);
+    acc2 = fma(av, vload16(0, Bt + 2 * K + k), acc2);
+    acc3 = fma(av, vload16(0, Bt + 3 * K + k), acc3);
+  }
+  float s[4];
+  s[0] = acc0.s0 + acc0.s1 + acc0.s2 + acc0.s3 + acc0.s4 + acc0.s5 + acc0.s6 + acc0.s7 + acc0.s8 + acc0.s9 + acc0.sa +
+         acc0.sb + acc0.sc + acc0.sd + acc0.se + acc0.sf;
+  s[1] = acc1.s0 + acc1.s1 + acc1.s2 + acc1.s3 + acc1.s4 + acc1.s5 + acc1.s6 + acc1.s7 + acc1.s8 + acc1.s9 + acc1.sa +
+         acc1.sb + acc1.sc + acc1.sd + acc1.se + acc1.sf;
+  s[2] = acc2.s0 + acc2.s1 + acc2.s2 + acc2.s3 + acc2.s4 + acc2.s5 + acc2.s6 + acc2.s7 + acc2.s8 + acc2.s9 + acc2.sa +
+         acc2.sb + acc2.sc + acc2.sd + acc2.se + acc2.sf;
+  s[3] = acc3.s0 + acc3.s1 + acc3.s2 + acc3.s3 + acc3.s4 + acc3.s5 + acc3.s6 + acc3.s7 + acc3.s8 + acc3.s9 + acc3.sa +
+         acc3.sb + acc3.sc + acc3.sd + acc3.se + acc3.sf;
+  for (; k < K; ++k) {
+    const float av = a[k];
+    for (uint j = 0; j < 4; ++j) s[j] = fma(av, Bt[j * K + k], s[j]);
+  }
+  for (uint j = 0; j < N; ++j) {
+    __global float* cp = C + c_off + i * ldc + j;
+    float r = alpha * s[j];
+    if (beta != 0.0f) r += beta * *cp;
+    if (use_bias) r += bias[bias_off + j];
+    *cp = apply_act(r, act);
+  }
+}
+
+// gemm_narrow_tn: partial products P[s][i][j] = Σ_{k in slice s} A[k, i] · B[k, j] for j < n ≤ 4, A row-major
+// [K × M] (lda), B row-major [K × n] (ldb). Work-item (i-block of 16, slice): 4 float16 accumulators along i.
+// The host sums the slices in order with gemm_reduce_slices (packed as [slices × M × N]).
+__kernel void gemm_narrow_tn(uint M, uint N, uint K, __global const float* A, uint a_off, uint lda,
+                             __global const float* B, uint b_off, uint ldb, uint k_slice, __global float* P) {
+  const uint i0 = (uint)get_global_id(0) * 16;
+  const uint slice = (uint)get_global_id(1);
+  const uint kb = slice * k_slice;
+  if (i0 >= M || kb >= K) return;
+  const uint ke = min(K, kb + k_slice);
+  float16 acc0 = (float16)(0.0f), acc1 = acc0, acc2 = acc0, acc3 = acc0;
+  if (i0 + 16 <= M) {
+    for (uint k = kb; k < ke; ++k) {
+      const float16 av = vload16(0, A + a_off + k * lda + i0);
+      __global const float* b = B + b_off + k * ldb;
+      acc0 = fma(av, (float16)(b[0]), acc0);
+      if (N > 1) acc1 = fma(av, (float16)(b[1]), acc1);
+      if (N > 2) acc2 = fma(av, (float16)(b[2]), acc2);
+      if (N > 3) acc3 = fma(av, (float16)(b[3]), acc3);
+    }
+  } else {
+    // Tail block: rows past M read as zero.
+    for (uint k = kb; k < ke; ++k) {
+      float t[16];
+      for (uint r = 0; r < 16; ++r) t[r] = i0 + r < M ? A[a_off + k * lda + i0 + r] : 0.0f;
+      const float16 av = vload16(0, t);
+      __global const float* b = B + b_off + k * ldb;
+      acc0 = fma(av, (float16)(b[0]), acc0);
+      if (N > 1) acc1 = fma(av, (float16)(b[1]), acc1);
+      if (N > 2) acc2 = fma(av, (float16)(b[2]), acc2);
+      if (N > 3) acc3 = fma(av, (float16)(b[3]), acc3);
+    }
+  }
+  float o[4][16];
+  vstore16(acc0, 0, o[0]);
+  vstore16(acc1, 0, o[1]);
+  vstore16(acc2, 0, o[2]);
+  vstore16(acc3, 0, o[3]);
+  __global float* p = P + slice * M * N;
+  for (uint r = 0; r < 16 && i0 + r < M; ++r)
+    for (uint j = 0; j < N; ++j) p[(i0 + r) * N + j] = o[j][r];
+}
+
+// C = 0 over rows × cols (ld). CLBlast computes alpha·AB + beta·C even for beta = 0, so a C that holds garbage
+// (a fresh buffer may hold NaN bit patterns) must be cleared first.
+__kernel void zero_matrix(uint rows, uint cols, __global float* C, uint c_off, uint ld) {
+  const uint j = (uint)get_global_id(0);
+  const uint i = (uint)get_global_id(1);
+  if (i < rows && j < cols) C[c_off + i * ld + j] = 0.0f;
 }

@@ -4,29 +4,52 @@
 #define BWD_ABS 2   // saved = pre-activation z; d|z|/dz = sign(z) (0 at 0, as PyTorch's abs)
 
 // dZ = dY ⊙ act'(saved) over rows × cols (dZ may alias dY), and the column sums of dZ in two deterministic passes:
-// work-item (c, g) walks rows [g·rows_per_item, …) of column c (adjacent work-items touch adjacent columns, so
-// loads coalesce on GPUs) and writes its partial sum to partial[g·cols + c]; bias_grad_reduce then adds the
-// partials in a fixed order. No float atomics here, so an MLP step is bit-reproducible on a given device.
+// work-item (16-column chunk c0, row group g) walks rows [g·rows_per_item, …) loading 16 contiguous floats per row
+// (one cache line on a CPU, a coalesced run across a GPU warp) and writes its partial sums to partial[g·cols + c];
+// bias_grad_reduce then adds the partials in a fixed order. No float atomics here, so an MLP step is
+// bit-reproducible on a given device. (Walking one column per work-item instead measured 160 ms for
+// 16384 × 512 on the CPU device, 30× slower.)
+inline float16 act_grad16(float16 d, float16 s, uint act) {
+  if (act == BWD_RELU) return select((float16)(0.0f), d, s > 0.0f);
+  if (act == BWD_ABS) return select(select((float16)(0.0f), -d, s < 0.0f), d, s > 0.0f);
+  return d;
+}
+
+inline float act_grad1(float d, float s, uint act) {
+  if (act == BWD_RELU) return s > 0.0f ? d : 0.0f;
+  if (act == BWD_ABS) return s > 0.0f ? d : (s < 0.0f ? -d : 0.0f);
+  return d;
+}
+
 __kernel void act_backward_bias_grad(uint rows, uint cols, uint rows_per_item, __global const float* dY, uint dy_off,
                                      uint dy_ld, __global const float* saved, uint s_off, uint s_ld, uint act,
                                      __global float* dZ, uint dz_off, uint dz_ld, __global float* partial) {
-  const uint c = (uint)get_global_id(0);
+  const uint c0 = (uint)get_global_id(0) * 16;
   const uint r0 = (uint)get_global_id(1) * rows_per_item;
-  if (c >= cols || r0 >= rows) return;
+  if (c0 >= cols || r0 >= rows) return;
   const uint r1 = min(rows, r0 + rows_per_item);
-  float sum = 0.0f;
-  for (uint r = r0; r < r1; ++r) {
-    float d = dY[dy_off + r * dy_ld + c];
-    if (act == BWD_RELU) {
-      d = saved[s_off + r * s_ld + c] > 0.0f ? d : 0.0f;
-    } else if (act == BWD_ABS) {
-      const float z = saved[s_off + r * s_ld + c];
-      d = z > 0.0f ? d : (z < 0.0f ? -d : 0.0f);
+  __global float* p = partial + get_global_id(1) * cols + c0;
+  if (c0 + 16 <= cols) {
+    float16 sum = (float16)(0.0f);
+    for (uint r = r0; r < r1; ++r) {
+      const float16 s = act == BWD_NONE ? (float16)(0.0f) : vload16(0, saved + s_off + r * s_ld + c0);
+      const float16 d = act_grad16(vload16(0, dY + dy_off + r * dy_ld + c0), s, act);
+      vstore16(d, 0, dZ + dz_off + r * dz_ld + c0);
+      sum += d;
     }
-    dZ[dz_off + r * dz_ld + c] = d;
-    sum += d;
+    vstore16(sum, 0, p);
+  } else {
+    for (uint c = c0; c < cols; ++c) {
+      float sum = 0.0f;
+      for (uint r = r0; r < r1; ++r) {
+        const float s = act == BWD_NONE ? 0.0f : saved[s_off + r * s_ld + c];
+        const float d = act_grad1(dY[dy_off + r * dy_ld + c], s, act);
+        dZ[dz_off + r * dz_ld + c] = d;
+        sum += d;
+      }
+      p[c - c0] = sum;
+    }
   }
-  partial[get_global_id(1) * cols + c] = sum;
 }
 
 // db[db_off + c] += Σ_g partial[g·cols + c], g in order.

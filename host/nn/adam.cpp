@@ -20,7 +20,8 @@ Adam::Adam(cl::Context& ctx, std::size_t count, AdamConfig config)
       v_(ctx, count),
       non_finite_(ctx, 1),
       dense_(ctx.program({"atomics.cl", "adam.cl"}).kernel("adam_step")),
-      sparse_(ctx.program({"atomics.cl", "adam.cl"}).kernel("adam_step_sparse")) {
+      sparse_(ctx.program({"atomics.cl", "adam.cl"}).kernel("adam_step_sparse")),
+      sparse_fixed_(ctx.program({"atomics.cl", "adam.cl"}).kernel("adam_step_sparse_fixed")) {
   m_.fill(0.0f);
   v_.fill(0.0f);
   non_finite_.fill(0u);
@@ -52,6 +53,18 @@ void Adam::step_sparse(cl::Buffer<float>& params, cl::Buffer<float>& grads, cl::
   float lr, c1, c2;
   advance(lr, c1, c2);
   sparse_
+      .args(u32(touched.size()), u32(features), touched, params, grads, m_, v_, lr, config_.beta1, config_.beta2,
+            config_.epsilon, config_.weight_decay, c1, c2, non_finite_)
+      .launch(touched.size(), 64);
+}
+
+void Adam::step_sparse_fixed(cl::Buffer<float>& params, cl::Buffer<std::int64_t>& grads,
+                             cl::Buffer<std::uint8_t>& touched, std::size_t features) {
+  if (params.size() != m_.size() || grads.size() != m_.size() || touched.size() * features != params.size())
+    throw std::logic_error("adam: table, gradient, moment and touched-flag sizes disagree");
+  float lr, c1, c2;
+  advance(lr, c1, c2);
+  sparse_fixed_
       .args(u32(touched.size()), u32(features), touched, params, grads, m_, v_, lr, config_.beta1, config_.beta2,
             config_.epsilon, config_.weight_decay, c1, c2, non_finite_)
       .launch(touched.size(), 64);

@@ -31,6 +31,9 @@ class Adam {
   // Lazy update of a table of `touched.size()` entries × `features` floats: only entries whose flag is set.
   void step_sparse(cl::Buffer<float>& params, cl::Buffer<float>& grads, cl::Buffer<std::uint8_t>& touched,
                    std::size_t features);
+  // The same with an int64 fixed-point gradient in units of 2^-40 (the hash grid's deterministic mode).
+  void step_sparse_fixed(cl::Buffer<float>& params, cl::Buffer<std::int64_t>& grads, cl::Buffer<std::uint8_t>& touched,
+                         std::size_t features);
 
   std::uint64_t steps() const { return steps_; }
   void set_steps(std::uint64_t s) { steps_ = s; }
@@ -50,7 +53,7 @@ class Adam {
   std::uint64_t steps_ = 0;
   cl::Buffer<float> m_, v_;
   cl::Buffer<std::uint32_t> non_finite_;
-  cl::Kernel dense_, sparse_;
+  cl::Kernel dense_, sparse_, sparse_fixed_;
 };
 
 }  // namespace clr::nn

@@ -53,13 +53,15 @@ class Gemm {
                float beta, MatRef c, const Epilogue& epilogue);
   void run_clblast(Op op_a, Op op_b, std::size_t m, std::size_t n, std::size_t k, float alpha, MatRef a, MatRef b,
                    float beta, MatRef c, const Epilogue& epilogue);
+  void run_narrow(Op op_a, std::size_t m, std::size_t n, std::size_t k, float alpha, MatRef a, MatRef b, float beta,
+                  MatRef c, const Epilogue& epilogue);
   cl::Buffer<float>& scratch(std::optional<cl::Buffer<float>>& slot, std::size_t count);
 
   cl::Context* ctx_;
   GemmBackend backend_;
   std::size_t tm_ = 8, tn_ = 32;
-  std::optional<cl::Kernel> gemm_, reduce_, transpose_, bias_act_;
-  std::optional<cl::Buffer<float>> transposed_b_, partials_;
+  std::optional<cl::Kernel> gemm_, reduce_, transpose_, bias_act_, narrow_nn_, narrow_tn_, zero_;
+  std::optional<cl::Buffer<float>> transposed_b_, partials_, narrow_bt_;
 };
 
 // Times both backends on this device (a few hundred ms) and returns the faster; the result is cached on disk

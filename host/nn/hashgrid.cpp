@@ -10,7 +10,19 @@
 namespace clr::nn {
 namespace {
 
-std::string options(const HashGridConfig& c) { return "-DF=" + std::to_string(c.features); }
+bool has_int64_atomics(const cl::Context& ctx) {
+  std::size_t n = 0;
+  CLR_CL_CHECK(clGetDeviceInfo(ctx.device().device, CL_DEVICE_EXTENSIONS, 0, nullptr, &n));
+  std::string ext(n, '\0');
+  CLR_CL_CHECK(clGetDeviceInfo(ctx.device().device, CL_DEVICE_EXTENSIONS, n, ext.data(), nullptr));
+  return (" " + std::string(ext.c_str()) + " ").find(" cl_khr_int64_base_atomics ") != std::string::npos;
+}
+
+bool use_fixed(const cl::Context& ctx, const HashGridConfig& c) { return c.deterministic && has_int64_atomics(ctx); }
+
+std::string options(const cl::Context& ctx, const HashGridConfig& c) {
+  return "-DF=" + std::to_string(c.features) + (use_fixed(ctx, c) ? " -DFIXED_POINT_GRAD" : "");
+}
 
 std::size_t table_entries(const HashGridConfig& c) {
   std::size_t n = 0;
@@ -48,12 +60,14 @@ HashGrid::HashGrid(cl::Context& ctx, HashGridConfig config, AdamConfig adam, std
       config_(config),
       levels_(hashgrid_levels(config)),
       level_info_(ctx, levels_.size()),
+      fixed_(use_fixed(ctx, config)),
       table_(ctx, table_entries(config) * config.features),
-      grad_(ctx, table_.size()),
+      grad_(ctx, fixed_ ? 0 : table_.size()),
+      grad_fixed_(ctx, fixed_ ? table_.size() : 0),
       touched_(ctx, table_entries(config)),
       adam_(ctx, table_.size(), adam),
-      forward_(ctx.program({"atomics.cl", "hashgrid.cl"}, options(config)).kernel("hashgrid_forward")),
-      backward_(ctx.program({"atomics.cl", "hashgrid.cl"}, options(config)).kernel("hashgrid_backward")) {
+      forward_(ctx.program({"atomics.cl", "hashgrid.cl"}, options(ctx, config)).kernel("hashgrid_forward")),
+      backward_(ctx.program({"atomics.cl", "hashgrid.cl"}, options(ctx, config)).kernel("hashgrid_backward")) {
   std::vector<cl_uint4> info(levels_.size());
   for (std::size_t l = 0; l < levels_.size(); ++l)
     info[l] = cl_uint4{{levels_[l].resolution, levels_[l].dense ? 1u : 0u, levels_[l].offset, levels_[l].entries}};
@@ -64,8 +78,30 @@ HashGrid::HashGrid(cl::Context& ctx, HashGridConfig config, AdamConfig adam, std
   std::uniform_real_distribution<float> u(-1e-4f, 1e-4f);
   for (auto& v : host) v = u(rng);
   table_.write(host);
-  grad_.fill(0.0f);
+  clear_gradient();
   touched_.fill(std::uint8_t(0));
+}
+
+void HashGrid::clear_gradient() {
+  if (fixed_)
+    grad_fixed_.fill(std::int64_t(0));
+  else
+    grad_.fill(0.0f);
+}
+
+std::vector<float> HashGrid::gradient() const {
+  if (!fixed_) return grad_.read();
+  const auto raw = grad_fixed_.read();
+  std::vector<float> out(raw.size());
+  for (std::size_t i = 0; i < raw.size(); ++i) out[i] = float(double(raw[i]) * 0x1p-40);
+  return out;
+}
+
+void HashGrid::adam_step() {
+  if (fixed_)
+    adam_.step_sparse_fixed(table_, grad_fixed_, touched_, config_.features);
+  else
+    adam_.step_sparse(table_, grad_, touched_, config_.features);
 }
 
 std::array<float, 3> HashGrid::inverse_extent() const {
@@ -92,10 +128,16 @@ void HashGrid::backward(const cl::Buffer<float>& in, std::size_t in_off, std::si
                         const cl::Buffer<float>& d_out, std::size_t d_off, std::size_t d_ld) {
   const auto inv = inverse_extent();
   const auto& lo = config_.bbox_lo;
-  backward_
-      .args(u32(rows), u32(levels_.size()), in, u32(in_off), u32(in_ld), lo[0], lo[1], lo[2], inv[0], inv[1], inv[2],
-            level_info_, d_out, u32(d_off), u32(d_ld), grad_, touched_)
-      .launch({rows, levels_.size()}, {64, 1});
+  auto launch = [&](const auto& grad) {
+    backward_
+        .args(u32(rows), u32(levels_.size()), in, u32(in_off), u32(in_ld), lo[0], lo[1], lo[2], inv[0], inv[1], inv[2],
+              level_info_, d_out, u32(d_off), u32(d_ld), grad, touched_)
+        .launch({rows, levels_.size()}, {64, 1});
+  };
+  if (fixed_)
+    launch(grad_fixed_);
+  else
+    launch(grad_);
 }
 
 }  // namespace clr::nn

@@ -21,6 +21,9 @@ struct HashGridConfig {
   std::size_t base_resolution = 16;
   double growth = 1.5;                                      // b: N_l = floor(N_min · b^l)
   std::array<float, 3> bbox_lo{0, 0, 0}, bbox_hi{1, 1, 1};  // positions are normalised to this box, then clamped
+  // Accumulate the table gradient in int64 fixed point (kernels/hashgrid.cl) so a step is bit-reproducible;
+  // falls back to float CAS atomics on devices without cl_khr_int64_base_atomics.
+  bool deterministic = true;
 };
 
 struct HashGridLevel {
@@ -48,10 +51,13 @@ class HashGrid {
   // Accumulates dL/dtable from d_out (same addressing as forward's output).
   void backward(const cl::Buffer<float>& in, std::size_t in_off, std::size_t in_ld, std::size_t rows,
                 const cl::Buffer<float>& d_out, std::size_t d_off, std::size_t d_ld);
-  void adam_step() { adam_.step_sparse(table_, grad_, touched_, config_.features); }
+  void adam_step();
 
   cl::Buffer<float>& params() { return table_; }
-  cl::Buffer<float>& grads() { return grad_; }
+  // dL/dtable as floats (converted from fixed point in the deterministic mode), and its reset.
+  std::vector<float> gradient() const;
+  void clear_gradient();
+  bool fixed_point_gradient() const { return fixed_; }
   cl::Buffer<std::uint8_t>& touched() { return touched_; }
   Adam& adam() { return adam_; }
   const cl::Buffer<float>& params() const { return table_; }
@@ -64,7 +70,9 @@ class HashGrid {
   HashGridConfig config_;
   std::vector<HashGridLevel> levels_;
   cl::Buffer<cl_uint4> level_info_;
-  cl::Buffer<float> table_, grad_;
+  bool fixed_ = false;
+  cl::Buffer<float> table_, grad_;       // grad_ holds the float gradient, or is empty in fixed-point mode
+  cl::Buffer<std::int64_t> grad_fixed_;  // the fixed-point gradient, or empty
   cl::Buffer<std::uint8_t> touched_;
   Adam adam_;
   cl::Kernel forward_, backward_;

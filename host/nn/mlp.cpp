@@ -34,6 +34,13 @@ Mlp::Mlp(cl::Context& ctx, Gemm& gemm, MlpConfig config, std::uint64_t seed)
     for (std::size_t i = 0; i < fan_in(l) * fan_out(l); ++i) host[offsets_[l] + i] = u(rng);
   }
   params_ = cl::Buffer<float>(ctx, std::span<const float>(host));
+  const auto& c = config_;
+  if (c.fused_small && c.width % 16 == 0 && c.width <= 64 && c.outputs % 16 == 0 && c.outputs <= 64 &&
+      c.hidden_layers >= 1 && c.hidden_layers <= 4 && c.output_activation == OutputActivation::None) {
+    const std::string options = "-DIN=" + std::to_string(c.inputs) + " -DWIDTH=" + std::to_string(c.width) +
+                                " -DHIDDEN=" + std::to_string(c.hidden_layers) + " -DOUT=" + std::to_string(c.outputs);
+    fused_.emplace(ctx.program({"mlp_fused.cl"}, options).kernel("mlp_fused_forward"));
+  }
   grads_ = cl::Buffer<float>(ctx, total);
   grads_.fill(0.0f);
 }
@@ -85,6 +92,10 @@ void Mlp::forward_train(const cl::Buffer<float>& input, std::size_t rows, MlpCon
   // Chunk boundaries follow c.chunk_rows (a reused context may have larger chunks than this batch needs).
   for (std::size_t r0 = 0, ci = 0; r0 < rows; r0 += c.chunk_rows, ++ci) {
     const std::size_t cr = std::min(c.chunk_rows, rows - r0);
+    if (fused_) {
+      fused_forward(input, r0, cr, c.output, r0, &c.hidden, ci * H);
+      continue;
+    }
     MatRef x = mat(input, config_.inputs, r0 * config_.inputs);
     for (std::size_t l = 0; l < H; ++l) {
       auto& y = c.hidden[ci * H + l];
@@ -97,6 +108,17 @@ void Mlp::forward_train(const cl::Buffer<float>& input, std::size_t rows, MlpCon
                {&params_, bias_offset(H), Act::None});
   }
   if (abs_out) abs_.args(u32(rows * O), c.pre_output, c.output, 0u).launch(rows * O);
+}
+
+void Mlp::fused_forward(const cl::Buffer<float>& input, std::size_t x_row, std::size_t rows, cl::Buffer<float>& out,
+                        std::size_t out_row, const std::vector<cl::Buffer<float>>* hidden, std::size_t hidden_base) {
+  constexpr std::size_t kRowsPerItem = 4;  // RPI in kernels/mlp_fused.cl
+  const std::size_t H = config_.hidden_layers;
+  auto h = [&](std::size_t l) -> const cl::Buffer<float>& {
+    return hidden && l < H ? (*hidden)[hidden_base + l] : out;  // unused slots get any valid buffer
+  };
+  fused_->args(u32(rows), input, u32(x_row), params_, out, u32(out_row), hidden ? 1u : 0u, h(0), h(1), h(2), h(3))
+      .launch((rows + kRowsPerItem - 1) / kRowsPerItem, 16);
 }
 
 MlpContext Mlp::forward_train(const cl::Buffer<float>& input, std::size_t rows) {
@@ -114,11 +136,12 @@ void Mlp::bias_grad(std::size_t rows, std::size_t cols, MatRef dy, const cl::Buf
   act_backward_
       .args(u32(rows), u32(cols), u32(per_item), *dy.buf, u32(dy.offset), u32(dy.ld), saved, u32(s_off), u32(s_ld), act,
             *dz.buf, u32(dz.offset), u32(dz.ld), partial)
-      .launch({cols, groups}, {std::min<std::size_t>(cols, 16), 1});
+      .launch({(cols + 15) / 16, groups}, {1, 16});
   bias_reduce_.args(u32(cols), u32(groups), partial, grads_, u32(bias_off)).launch(cols, 16);
 }
 
-void Mlp::backward(MlpContext& c, const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input) {
+void Mlp::backward(MlpContext& c, const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input,
+                   std::size_t d_input_cols) {
   if (!c.input) throw std::logic_error("mlp: backward without forward_train");
   const std::size_t H = config_.hidden_layers, W = config_.width, O = config_.outputs, I = config_.inputs;
   const bool abs_out = config_.output_activation == OutputActivation::Abs;
@@ -137,8 +160,8 @@ void Mlp::backward(MlpContext& c, const cl::Buffer<float>& d_output, cl::Buffer<
       // dX of layer l is dY of layer l-1 (or dL/dinput); ping-pong between two workspaces.
       cl::Buffer<float>* dx_buf = last ? d_input : &workspace(1 + (l % 2), c.chunk_rows * W);
       const MatRef dx = last ? mat(*d_input, I, r0 * I) : mat(*dx_buf, W);
-      gemm_->run(Op::N, Op::T, cr, fan_in(l), fan_out(l), 1.0f, dz, mat(params_, fan_out(l), weight_offset(l)), 0.0f,
-                 dx);
+      const std::size_t cols = last && d_input_cols ? std::min(d_input_cols, I) : fan_in(l);
+      gemm_->run(Op::N, Op::T, cr, cols, fan_out(l), 1.0f, dz, mat(params_, fan_out(l), weight_offset(l)), 0.0f, dx);
       if (last) break;
       // Hidden layer l-1: ReLU mask from its saved output, in place.
       const std::size_t h = l - 1;
@@ -154,6 +177,10 @@ void Mlp::infer(const cl::Buffer<float>& input, std::size_t rows, cl::Buffer<flo
   const std::size_t chunk = chunk_rows(rows);
   for (std::size_t r0 = 0; r0 < rows; r0 += chunk) {
     const std::size_t cr = std::min(chunk, rows - r0);
+    if (fused_) {
+      fused_forward(input, r0, cr, output, out_row + r0, nullptr, 0);
+      continue;
+    }
     MatRef x = mat(input, config_.inputs, r0 * config_.inputs);
     for (std::size_t l = 0; l < H; ++l) {
       auto& y = workspace(3 + (l % 2), chunk * W);

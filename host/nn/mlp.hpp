@@ -10,6 +10,7 @@
 // Batches are processed in chunks of at most `max_chunk_rows` rows, so no activation buffer exceeds the
 // device's max allocation (1 GiB on PoCL) whatever the batch.
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "cl/buffer.hpp"
@@ -28,6 +29,9 @@ struct MlpConfig {
   std::size_t outputs = 32;
   OutputActivation output_activation = OutputActivation::None;
   std::size_t max_chunk_rows = 65536;  // further capped by the device's max allocation
+  // Use the one-launch kernel (kernels/mlp_fused.cl) for small networks where it applies: width and outputs
+  // multiples of 16 and ≤ 64, 1-4 hidden layers, no output activation (the I-Module).
+  bool fused_small = true;
 };
 
 // What forward_train keeps for backward: the input (not owned, must stay alive and unchanged until backward),
@@ -62,12 +66,15 @@ class Mlp {
   void forward_train(const cl::Buffer<float>& input, std::size_t rows, MlpContext& ctx);
   MlpContext forward_train(const cl::Buffer<float>& input, std::size_t rows);
   // Accumulates dL/dparams into grads() from d_output [rows × outputs]; writes dL/dinput into *d_input
-  // ([rows × inputs]) when given (needed when the input encoding is trainable).
-  void backward(MlpContext& ctx, const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input = nullptr);
+  // ([rows × inputs]) when given (needed when the input encoding is trainable), only its first `d_input_cols`
+  // columns when that is set (the trainable part of an encoding comes first; the rest needs no gradient).
+  void backward(MlpContext& ctx, const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input = nullptr,
+                std::size_t d_input_cols = 0);
   // Inference without saved activations: output rows [out_row, out_row + rows) of a [· × outputs] buffer.
   void infer(const cl::Buffer<float>& input, std::size_t rows, cl::Buffer<float>& output, std::size_t out_row = 0);
 
   std::size_t chunk_rows(std::size_t rows) const;
+  bool fused() const { return fused_.has_value(); }
 
  private:
   cl::Buffer<float>& workspace(std::size_t i, std::size_t count);
@@ -80,7 +87,11 @@ class Mlp {
   std::vector<std::size_t> offsets_;  // per layer, and the total at the end
   cl::Buffer<float> params_, grads_;
   std::vector<cl::Buffer<float>> workspace_;
+  void fused_forward(const cl::Buffer<float>& input, std::size_t x_row, std::size_t rows, cl::Buffer<float>& out,
+                     std::size_t out_row, const std::vector<cl::Buffer<float>>* hidden, std::size_t hidden_base);
+
   cl::Kernel act_backward_, bias_reduce_, abs_;
+  std::optional<cl::Kernel> fused_;
 };
 
 }  // namespace clr::nn

@@ -174,7 +174,8 @@ void Network::backward(NetworkContext& c, const cl::Buffer<float>& d_output) {
     c.d_encoded = cl::Buffer<float>();
     c.d_encoded = cl::Buffer<float>(*ctx_, c.rows * encoder_.outputs());
   }
-  mlp_.backward(c.mlp, d_output, grid ? &c.d_encoded : nullptr);
+  // Only the hash-grid columns (first in the encoding) carry trainable parameters below them.
+  mlp_.backward(c.mlp, d_output, grid ? &c.d_encoded : nullptr, grid ? grid->outputs() : 0);
   if (grid) encoder_.backward(*c.raw, 0, c.rows, c.d_encoded);
 }
 
@@ -241,7 +242,7 @@ std::string Network::load(const std::string& path) {
     g->params().write(c.tensor(path, "grid.table", g->params().size()));
     g->adam().first_moment().write(c.tensor(path, "grid.adam.m", g->params().size()));
     g->adam().second_moment().write(c.tensor(path, "grid.adam.v", g->params().size()));
-    g->grads().fill(0.0f);
+    g->clear_gradient();
     g->touched().fill(std::uint8_t(0));
     g->adam().set_steps(c.step);
   }

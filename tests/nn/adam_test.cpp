@@ -106,6 +106,36 @@ TEST_F(ClTest, AdamSparseTouchesOnlyFlaggedEntries) {
   }
 }
 
+TEST_F(ClTest, AdamSparseFixedPointGradient) {
+  const std::size_t entries = 64, features = 2, n = entries * features;
+  nn::AdamConfig cfg;
+  nn::Adam adam(ctx(), n, cfg);
+  AdamTwin twin{cfg, std::vector<double>(n), std::vector<double>(n)};
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<float> p(n, 0.5f);
+  std::vector<double> pd(p.begin(), p.end()), g(n);
+  std::vector<std::int64_t> fixed(n);
+  std::vector<bool> active(n);
+  std::vector<std::uint8_t> flags(entries);
+  for (std::size_t e = 0; e < entries; ++e) {
+    flags[e] = e % 2;
+    for (std::size_t f = 0; f < features; ++f) {
+      const std::size_t i = e * features + f;
+      active[i] = flags[e];
+      fixed[i] = flags[e] ? std::int64_t(std::llround(u(rng) * 0x1p30)) : 0;  // gradients of order 2^-10
+      g[i] = double(fixed[i]) * 0x1p-40;
+    }
+  }
+  cl::Buffer<float> dp(ctx(), std::span<const float>(p));
+  cl::Buffer<std::int64_t> dg(ctx(), std::span<const std::int64_t>(fixed));
+  cl::Buffer<std::uint8_t> touched(ctx(), std::span<const std::uint8_t>(flags));
+  adam.step_sparse_fixed(dp, dg, touched, features);
+  twin.step(pd, g, &active);
+  EXPECT_TRUE(all_near(std::span<const float>(dp.read()), std::span<const double>(pd)));
+  for (auto v : dg.read()) ASSERT_EQ(v, 0) << "the step consumes the gradient";
+}
+
 class LossTest : public ClTest, public ::testing::WithParamInterface<nn::LossKind> {};
 
 TEST_P(LossTest, ValueAndGradientMatchTwin) {

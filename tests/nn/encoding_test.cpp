@@ -54,8 +54,11 @@ TEST(HashGridLevels, DenseWhileVerticesFitTheTable) {
   EXPECT_EQ(l2[3].resolution, 6u);
 }
 
-TEST_F(ClTest, HashGridForwardAndTableGradientMatchTwin) {
-  const auto cfg = small_grid();
+class HashGridTest : public ClTest, public ::testing::WithParamInterface<bool> {};
+
+TEST_P(HashGridTest, ForwardAndTableGradientMatchTwin) {
+  auto cfg = small_grid();
+  cfg.deterministic = GetParam();
   nn::HashGrid grid(ctx(), cfg, {}, 3);
   const std::size_t rows = 200, ld = 5, F = cfg.features, D = grid.outputs();
   // Larger table values than the initialiser's ±1e-4, so the tolerance's absolute floor does not hide errors.
@@ -90,7 +93,7 @@ TEST_F(ClTest, HashGridForwardAndTableGradientMatchTwin) {
   for (auto& v : w) v = u(rng);
   cl::Buffer<float> dw(ctx(), std::span<const float>(w));
   grid.backward(dpos, 0, ld, rows, dw, col, out_ld);
-  const auto g = grid.grads().read();
+  const auto g = grid.gradient();
   const auto touched = grid.touched().read();
   auto loss = [&](const std::vector<double>& t) {
     double L = 0;
@@ -115,6 +118,10 @@ TEST_F(ClTest, HashGridForwardAndTableGradientMatchTwin) {
   for (std::size_t e = 0; e < reached.size(); ++e) ASSERT_EQ(bool(touched[e]), reached[e]) << "touched flag " << e;
   (void)F;
 }
+
+// Fixed-point (deterministic, int64 atomics) and float CAS accumulation of the table gradient.
+INSTANTIATE_TEST_SUITE_P(Accumulation, HashGridTest, ::testing::Values(true, false),
+                         [](const auto& p) { return p.param ? std::string("FixedPoint") : std::string("FloatCas"); });
 
 TEST_F(ClTest, ShForwardAndGradientMatchTwin) {
   const std::size_t rows = 50, ld = 4;

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cstdint>
+#include <limits>
 #include <random>
 
 #include "common/error.hpp"
@@ -34,6 +37,9 @@ class GemmTest : public ClTest {
     std::vector<float> a(off + a_rows * lda), b(off + b_rows * ldb), bias(c.n), cm(off + c.m * ldc);
     for (auto* v : {&a, &b, &bias, &cm})
       for (auto& x : *v) x = u(rng);
+    // With beta = 0, C must not be read: NaN there would poison 0·C.
+    if (c.beta == 0.0f)
+      for (auto& x : cm) x = std::numeric_limits<float>::quiet_NaN();
     auto A = [&](std::size_t i, std::size_t kk) {
       return double(c.op_a == nn::Op::N ? a[off + i * lda + kk] : a[off + kk * lda + i]);
     };
@@ -45,7 +51,8 @@ class GemmTest : public ClTest {
       for (std::size_t j = 0; j < c.n; ++j) {
         double s = 0;
         for (std::size_t kk = 0; kk < c.k; ++kk) s += A(i, kk) * B(kk, j);
-        double r = c.alpha * s + c.beta * double(cm[off + i * ldc + j]) + (c.bias ? double(bias[j]) : 0.0);
+        double r = c.alpha * s + (c.beta != 0.0f ? c.beta * double(cm[off + i * ldc + j]) : 0.0) +
+                   (c.bias ? double(bias[j]) : 0.0);
         if (c.act == nn::Act::Relu) r = std::max(r, 0.0);
         want[i * c.n + j] = r;
       }
@@ -66,7 +73,9 @@ class GemmTest : public ClTest {
     // The padding between rows (ld > n) must be untouched.
     for (std::size_t i = 0; i < c.m; ++i)
       for (std::size_t j = c.n; j < ldc && off + i * ldc + j < cm.size(); ++j)
-        ASSERT_EQ(c_host[off + i * ldc + j], cm[off + i * ldc + j]) << "row padding written at " << i << "," << j;
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(c_host[off + i * ldc + j]),
+                  std::bit_cast<std::uint32_t>(cm[off + i * ldc + j]))
+            << "row padding written at " << i << "," << j;
   }
 
   std::vector<Case> cases() {

@@ -29,6 +29,7 @@ TEST_P(MlpTest, ForwardInferAndGradientsMatchTwin) {
   const auto& pc = GetParam();
   nn::Gemm gemm(ctx(), nn::GemmChoice::Own);
   nn::Mlp mlp(ctx(), gemm, pc.cfg, 11);
+  EXPECT_EQ(mlp.fused(), std::string(pc.name).rfind("Fused", 0) == 0);
   const std::size_t rows = pc.rows, I = pc.cfg.inputs, O = pc.cfg.outputs;
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
@@ -97,12 +98,66 @@ nn::MlpConfig cfg(std::size_t in, std::size_t width, std::size_t hidden, std::si
   return c;
 }
 
-INSTANTIATE_TEST_SUITE_P(Shapes, MlpTest,
-                         ::testing::Values(MlpCase{"DenseLayer", cfg(7, 1, 0, 5, nn::OutputActivation::None), 13},
-                                           MlpCase{"DenseAbs", cfg(6, 1, 0, 3, nn::OutputActivation::Abs), 9},
-                                           MlpCase{"DeepAbs", cfg(5, 36, 3, 3, nn::OutputActivation::Abs), 11},
-                                           MlpCase{"Chunked", cfg(4, 33, 2, 6, nn::OutputActivation::None, 7), 30}),
-                         [](const auto& p) { return std::string(p.param.name); });
+INSTANTIATE_TEST_SUITE_P(
+    Shapes, MlpTest,
+    ::testing::Values(MlpCase{"DenseLayer", cfg(7, 1, 0, 5, nn::OutputActivation::None), 13},
+                      MlpCase{"DenseAbs", cfg(6, 1, 0, 3, nn::OutputActivation::Abs), 9},
+                      MlpCase{"DeepAbs", cfg(5, 36, 3, 3, nn::OutputActivation::Abs), 11},
+                      MlpCase{"Chunked", cfg(4, 33, 2, 6, nn::OutputActivation::None, 7), 30},
+                      // Shapes that take the one-launch fused kernel (widths multiples of 16, no output activation).
+                      MlpCase{"FusedSmall", cfg(7, 16, 2, 16, nn::OutputActivation::None), 13},
+                      MlpCase{"FusedChunked", cfg(5, 32, 1, 16, nn::OutputActivation::None, 7), 30}),
+    [](const auto& p) { return std::string(p.param.name); });
+
+// The I-Module's shape through both paths: the fused kernel and the per-layer GEMMs agree.
+TEST_F(ClTest, FusedSmallMlpMatchesLayerPath) {
+  nn::Gemm gemm(ctx(), nn::GemmChoice::Own);
+  auto c = cfg(59, 64, 3, 32, nn::OutputActivation::None);
+  nn::Mlp fused(ctx(), gemm, c, 4);
+  c.fused_small = false;
+  nn::Mlp layered(ctx(), gemm, c, 4);
+  ASSERT_TRUE(fused.fused());
+  ASSERT_FALSE(layered.fused());
+  const std::size_t rows = 1001;
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<float> x(rows * 59), w(rows * 32);
+  for (auto& v : x) v = u(rng);
+  for (auto& v : w) v = u(rng);
+  cl::Buffer<float> dx(ctx(), std::span<const float>(x)), dw(ctx(), std::span<const float>(w));
+  auto a = fused.forward_train(dx, rows), b = layered.forward_train(dx, rows);
+  EXPECT_TRUE(all_near(std::span<const float>(a.output.read()), std::span<const float>(b.output.read())));
+  fused.backward(a, dw);
+  layered.backward(b, dw);
+  EXPECT_TRUE(all_near(std::span<const float>(fused.grads().read()), std::span<const float>(layered.grads().read())));
+  auto out_host = with_canaries(rows * 32);
+  cl::Buffer<float> out(ctx(), std::span<const float>(out_host));
+  fused.infer(dx, rows, out);
+  out.read(out_host);
+  EXPECT_TRUE(canaries_intact(out_host, rows * 32));
+  EXPECT_TRUE(all_near(std::span<const float>(out_host.data(), rows * 32), std::span<const float>(b.output.read())));
+}
+
+// The CLBlast backend (bias + activation as a separate pass) computes the same network as the own kernels.
+TEST_F(ClTest, ClblastBackendMatchesOwn) {
+  nn::Gemm own(ctx(), nn::GemmChoice::Own), blast(ctx(), nn::GemmChoice::CLBlast);
+  const auto c = cfg(9, 40, 2, 3, nn::OutputActivation::Abs);
+  nn::Mlp a(ctx(), own, c, 2), b(ctx(), blast, c, 2);
+  const std::size_t rows = 77;
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<float> x(rows * c.inputs), w(rows * c.outputs);
+  for (auto& v : x) v = u(rng);
+  for (auto& v : w) v = u(rng);
+  cl::Buffer<float> dx(ctx(), std::span<const float>(x)), dw(ctx(), std::span<const float>(w)),
+      ga(ctx(), rows * c.inputs), gb(ctx(), rows * c.inputs);
+  auto ca = a.forward_train(dx, rows), cb = b.forward_train(dx, rows);
+  EXPECT_TRUE(all_near(std::span<const float>(cb.output.read()), std::span<const float>(ca.output.read())));
+  a.backward(ca, dw, &ga);
+  b.backward(cb, dw, &gb);
+  EXPECT_TRUE(all_near(std::span<const float>(b.grads().read()), std::span<const float>(a.grads().read())));
+  EXPECT_TRUE(all_near(std::span<const float>(gb.read()), std::span<const float>(ga.read())));
+}
 
 }  // namespace
 }  // namespace clr::test
