@@ -7,6 +7,7 @@
 
 #include "common/pcg32.hpp"
 #include "geometry/surface_sampler.hpp"
+#include "image/image.hpp"
 #include "scene/scene_files.hpp"
 
 namespace clr::test {
@@ -41,6 +42,22 @@ TEST_F(Geometry, ClosestHitFindsThePointItsAttributesAndItsSide) {
   EXPECT_NEAR(behind.t, 3.0f, 1e-5f);
   EXPECT_TRUE(g.occluded({Vec3(0, 0, 1), 0.0f, Vec3(0, 0, -1), 2.0f}));
   EXPECT_FALSE(g.occluded({Vec3(0, 0, 1), 0.0f, Vec3(0, 0, -1), 0.5f}));
+}
+
+TEST_F(Geometry, BumpMapsTiltTheShadingNormalByTheHeightGradient) {
+  // Height 0 at u = 0.25 rising to 1 at u = 0.75 (bilinear between two texels): dh/du = 2. On the rectangle
+  // dp/du = (2, 0, 0), so the bumped tangent is (2, 0, 2·scale) and the normal leans back along −x.
+  image::Image ramp(2, 1);
+  for (int c = 0; c < 3; ++c) ramp.pixel(1, 0)[c] = 1.0f;
+  image::write_png(dir_ / "ramp.png", ramp);
+  const auto s = scene::load_scene(scene(R"(<shape type="rectangle"><bsdf type="bumpmap">
+    <texture name="map" type="bitmap"><string name="filename" value="ramp.png"/></texture>
+    <float name="scale" value="0.5"/><bsdf type="diffuse"/></bsdf></shape>)"));
+  const geometry::Geometry g(s);
+  const auto p = g.surface(g.intersect({Vec3(0, 0.3f, 1), 0.0f, Vec3(0, 0, -1)}));
+  const Vec3 want = glm::normalize(Vec3(-1, 0, 2));  // cross((2, 0, 1), (0, 2, 0)) ∝ (−2, 0, 4)
+  EXPECT_NEAR(glm::length(p.frame.n - want), 0.0f, 1e-3f);
+  EXPECT_NEAR(p.geometric_normal.z, 1.0f, 1e-6f);  // geometry itself is untouched
 }
 
 TEST_F(Geometry, BatchesAnswerLikeSingleRays) {
