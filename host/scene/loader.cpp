@@ -191,8 +191,8 @@ class Loader {
     const Props p(n);
     const std::string type = n.attr("type");
     if (type == "bitmap") {
-      const auto file = resolve(n, p.string("filename", ""));
       if (!p.has("filename")) n.fail("missing property 'filename'");
+      const auto file = resolve(n, p.string("filename", ""));
       if (!std::filesystem::exists(file)) n.fail("texture file '" + file.string() + "' not found");
       const std::string filter = p.string("filter_type", "bilinear"), wrap = p.string("wrap_mode", "repeat");
       if (filter != "bilinear" && filter != "nearest") n.fail("unsupported filter_type '" + filter + "'");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "common/error.hpp"
 #include "image/image.hpp"
 #include "scene/bsdfs.hpp"
 #include "scene/scene.hpp"
@@ -63,6 +64,19 @@ TEST_F(Loader, DefaultsAndParametersSubstitute) {
   EXPECT_FLOAT_EQ(s.bsdf(s.shapes[0]).albedo(Vec2(0)).x, 0.25f);
   s = scene::load_scene(file, {{"albedo", "0.75"}});  // like mitsuba -D: the caller wins over <default>
   EXPECT_FLOAT_EQ(s.bsdf(s.shapes[0]).albedo(Vec2(0)).x, 0.75f);
+}
+
+TEST_F(Loader, ColourTags) {
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="rectangle"><bsdf type="diffuse"><srgb name="reflectance" value="0.5"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="diffuse"><spectrum name="reflectance" value="0.3"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0.1 0.2 0.3"/></bsdf></shape>)"));
+  EXPECT_NEAR(s.bsdf(s.shapes[0]).albedo(Vec2(0)).x, 0.2140f, 1e-4f);  // sRGB-decoded
+  EXPECT_FLOAT_EQ(s.bsdf(s.shapes[1]).albedo(Vec2(0)).y, 0.3f);
+  expect_vec(s.bsdf(s.shapes[2]).albedo(Vec2(0)), Vec3(0.1f, 0.2f, 0.3f));  // spaces separate like commas
+  EXPECT_THROW(scene::load_scene(scene(R"(<shape type="rectangle"><bsdf type="diffuse">
+    <spectrum name="reflectance" value="400:0.1, 700:0.2"/></bsdf></shape>)")),
+               InputError);
 }
 
 TEST_F(Loader, IncludesShareIdsAndResolvePathsFromTheirOwnFile) {
