@@ -14,10 +14,10 @@ namespace clr::cli {
 Command add_train_command(CLI::App& app) {
   struct Options {
     std::string scene, run_dir, config_file, device, method, residual, gemm;
-    int samples = 0, batch = -1;
+    int samples = 0, batch = 0;
     long steps = 0;
     double minutes = 0, learning_rate = 0;
-    std::int64_t seed = -1;
+    std::uint64_t seed = 0;
     bool resume = false;
   };
   auto opt = std::make_shared<Options>();
@@ -38,17 +38,19 @@ Command add_train_command(CLI::App& app) {
   cmd->add_flag("--resume", opt->resume, "Continue the run in RUN_DIR from its checkpoint");
   add_device_option(*cmd, opt->device);
 
-  return {cmd, [opt]() {
+  return {cmd, [opt, cmd]() {
             radiosity::TrainConfig config;
             if (!opt->config_file.empty()) config = radiosity::load_train_config(opt->config_file);
             if (!opt->method.empty()) config.method = opt->method;
             if (!opt->residual.empty()) config.residual = opt->residual;
-            if (opt->samples) config.samples = opt->samples;
-            if (opt->batch >= 0) config.batch = opt->batch;
-            if (opt->steps) config.steps = opt->steps;
-            if (opt->minutes > 0) config.minutes = opt->minutes;
-            if (opt->seed >= 0) config.seed = std::uint64_t(opt->seed);
-            if (opt->learning_rate > 0) config.network["adam"]["learning_rate"] = opt->learning_rate;
+            // Flags given on the command line override the config file, whatever their value (validate() judges).
+            const auto given = [&](const char* flag) { return cmd->count(flag) > 0; };
+            if (given("--samples")) config.samples = opt->samples;
+            if (given("--batch")) config.batch = opt->batch;
+            if (given("--steps")) config.steps = opt->steps;
+            if (given("--minutes")) config.minutes = opt->minutes;
+            if (given("--seed")) config.seed = opt->seed;
+            if (given("--learning-rate")) config.network["adam"]["learning_rate"] = opt->learning_rate;
             if (!opt->gemm.empty()) config.network["gemm"] = opt->gemm;
             config.validate();
             if (config.steps == 0 && config.minutes == 0) throw InputError("give a budget: --steps S or --minutes T");

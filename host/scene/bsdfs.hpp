@@ -1,6 +1,8 @@
 #pragma once
 // The Mitsuba BSDF plugins clradiosity models (one .cpp each, bsdf_<name>.cpp). Parameters follow Mitsuba 3:
 // IORs are relative (interior over exterior), reflectances are textures.
+#include <vector>
+
 #include "scene/bsdf.hpp"
 #include "scene/microfacet.hpp"
 
@@ -52,6 +54,7 @@ class Plastic final : public Bsdf {
   bool has_non_delta() const override { return true; }
 
  private:
+  float transmittance(float cos_theta) const;  // of the coating, from outside
   float specular_probability(float cos_o) const;
   Rgb diffuse_term(const Vec2& uv, const Vec3& wo, const Vec3& wi) const;
 
@@ -59,8 +62,9 @@ class Plastic final : public Bsdf {
   Texture diffuse_, specular_;
   bool nonlinear_;
   std::optional<Microfacet> mf_;
-  float fdr_int_;          // diffuse reflectance of the coating seen from inside
-  float specular_weight_;  // share of specular sampling when the Fresnel terms are equal
+  std::vector<float> rough_transmittance_;  // roughplastic: the coating's transmittance tabulated over cos θ
+  float fdr_int_;                           // diffuse reflectance of the coating seen from inside
+  float specular_weight_;                   // share of specular sampling when the Fresnel terms are equal
 };
 
 // `dielectric` (smooth), `roughdielectric` (microfacet) and `thindielectric` (a thin slab: transmission straight

@@ -42,7 +42,15 @@ class Props {
 
   const Node* find(const std::string& name) const {
     const auto it = named.find(name);
-    return it == named.end() ? nullptr : &it->second;
+    if (it == named.end()) return nullptr;
+    used.insert(name);
+    return &it->second;
+  }
+  // Like Mitsuba: a property no reader asked for is a misspelling or a feature this plugin lacks, never silently
+  // dropped.
+  void check_all_used() const {
+    for (const auto& [name, n] : named)
+      if (!used.count(name)) n.fail("unused property '" + name + "' (misspelt, or not supported by this plugin)");
   }
   bool has(const std::string& name) const { return find(name) != nullptr; }
 
@@ -84,6 +92,7 @@ class Props {
   Node node;
   std::map<std::string, Node> named;
   std::vector<Node> objects;
+  mutable std::set<std::string> used;
 };
 
 class Loader {
@@ -182,8 +191,8 @@ class Loader {
     const Props p(n);
     const std::string type = n.attr("type");
     if (type == "bitmap") {
-      const auto file = resolve(n, p.string("filename", ""));
       if (!p.has("filename")) n.fail("missing property 'filename'");
+      const auto file = resolve(n, p.string("filename", ""));
       if (!std::filesystem::exists(file)) n.fail("texture file '" + file.string() + "' not found");
       const std::string filter = p.string("filter_type", "bilinear"), wrap = p.string("wrap_mode", "repeat");
       if (filter != "bilinear" && filter != "nearest") n.fail("unsupported filter_type '" + filter + "'");
@@ -191,10 +200,16 @@ class Loader {
       const bool raw = p.boolean("raw", false);
       auto& cached = bitmaps_[{file.string(), raw}];
       if (!cached) cached = Bitmap::load(file, raw);
-      return Texture::bitmap(cached, uv_transform(p), filter == "bilinear");
+      const Texture t = Texture::bitmap(cached, uv_transform(p), filter == "bilinear");
+      p.check_all_used();
+      return t;
     }
-    if (type == "checkerboard")
-      return Texture::checkerboard(p.color("color0", Rgb(0.4f)), p.color("color1", Rgb(0.2f)), uv_transform(p));
+    if (type == "checkerboard") {
+      const Texture t =
+          Texture::checkerboard(p.color("color0", Rgb(0.4f)), p.color("color1", Rgb(0.2f)), uv_transform(p));
+      p.check_all_used();
+      return t;
+    }
     n.fail("unsupported texture type '" + type + "'");
   }
 
@@ -322,7 +337,7 @@ class Loader {
       bump.scale = p.number("scale", 1.0f);
       const Node* height = nullptr;
       for (const auto& [name, node] : p.named)
-        if (node.tag() == "texture" || node.tag() == "ref") height = &node;
+        if (node.tag() == "texture" || node.tag() == "ref") height = p.find(name);  // any name: Mitsuba's is free
       for (const Node& o : p.objects)
         if (o.tag() == "texture") height = &o;
       if (!height) n.fail("bumpmap needs a height texture");
@@ -334,6 +349,7 @@ class Loader {
     } else {
       n.fail("unsupported BSDF type '" + type + "'");
     }
+    p.check_all_used();
     if (n.has("id")) bsdfs_[n.attr("id")] = b;
     return b;
   }
@@ -408,11 +424,13 @@ class Loader {
         if (s.is_emitter()) o.fail("a shape has one emitter");
         if (e.has("radiance") && e.find("radiance")->tag() == "texture") o.fail("textured radiance is not supported");
         s.radiance = e.color("radiance", Rgb(1.0f));
+        e.check_all_used();
         if (!(s.radiance.x >= 0 && s.radiance.y >= 0 && s.radiance.z >= 0)) o.fail("radiance must be non-negative");
       } else {
         o.fail("unexpected inside a shape");
       }
     }
+    p.check_all_used();
     s.material = material_index(b ? b : default_bsdf());
     scene_.shapes.push_back(std::move(s));
   }
@@ -439,6 +457,7 @@ class Loader {
     } else {
       n.fail("unsupported emitter type '" + type + "'");
     }
+    p.check_all_used();
   }
 
   void sensor(const Node& n) {
@@ -466,6 +485,7 @@ class Loader {
       p.expect("fov_axis", {"string"}).fail("unsupported fov_axis '" + axis + "'");
     c.near_clip = p.number("near_clip", 1e-2f);
     c.to_world = p.transform("to_world");
+    p.check_all_used();
     for (const Node& o : p.objects) {
       if (o.tag() != "film") continue;
       const Props f(o);

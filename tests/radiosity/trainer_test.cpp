@@ -23,13 +23,15 @@ using ::testing::HasSubstr;
 const fs::path kScenes = fs::path(CLR_SOURCE_DIR) / "scenes";
 
 // A network small enough that a few hundred steps take seconds on PoCL, still with every part of the encoder.
+// Width 128, not 64: at width 64 the furnace stalled at a relative loss of 0.03–0.16 for 3 of 4 seeds, while
+// width 128 converged for all four.
 radiosity::TrainConfig small_config(long steps) {
   radiosity::TrainConfig c;
   c.steps = steps;
   c.batch = 1024;
   c.log_every = 10;
   c.checkpoint_every = 1000000;
-  c.network = {{"width", 64},
+  c.network = {{"width", 128},
                {"hidden_layers", 2},
                {"encoder", {{"grid", {{"levels", 6}, {"log2_table", 14}, {"base_resolution", 4}}}}}};
   return c;
@@ -78,8 +80,8 @@ TEST_F(Training, FurnaceConvergesToTheAnalyticRadiance) {
   radiosity::RenderSettings settings;
   settings.spp = 1;
   const auto img = radiosity::render(geometry, radiosity::radiance_query(ctx(), trainer.network()), settings);
-  // Measured after 800 steps: image mean within 0.3 %, worst pixel 6 % (at the cube's edges, where grid cells
-  // straddle two faces), 99th percentile 4.5 %. Bounds: 1 % on the mean, 10 % on every pixel. A model stuck at
+  // Measured after 800 steps over seeds 1–4: image mean within 0.2 %, worst pixel 5.8 % (at the cube's edges,
+  // where grid cells straddle two faces). Bounds: 1 % on the mean, 10 % on every pixel. A model stuck at
   // the first bounce (scattered ρ·Le = 0.5, pixel 1.5) fails both by far.
   EXPECT_NEAR(image_mean(img), 2.0, 0.02);
   for (float v : img.rgb) ASSERT_NEAR(v, 2.0f, 0.2f);
@@ -110,7 +112,8 @@ TEST_F(Training, CornellBoxErrorAndResidualFallWithSteps) {
 }
 
 TEST_F(Training, ResumeContinuesTheLossCurve) {
-  const auto scene = scene::load_scene(kScenes / "cornell-box.xml", {{"res", "32"}});
+  // The furnace: its target has no Monte Carlo noise, so the loss curve shows training progress clearly.
+  const auto scene = scene::load_scene(kScenes / "furnace-enclosure.xml");
   const geometry::Geometry geometry(scene);
   const radiosity::RenderSettings settings{.width = 0, .height = 0, .spp = 1};
   TempRun run("resume");
@@ -124,7 +127,7 @@ TEST_F(Training, ResumeContinuesTheLossCurve) {
   config.network = nlohmann::json::object();  // ignored on resume: the run's own settings win
   radiosity::Trainer second(ctx(), geometry, config, run.path, true);
   EXPECT_EQ(second.steps_done(), 100u);
-  EXPECT_EQ(second.config().network["width"], 64);
+  EXPECT_EQ(second.config().network["width"], 128);
   // The checkpoint restores the network exactly: the same device renders the same image, bit for bit.
   const auto resumed = radiosity::render(geometry, radiosity::radiance_query(ctx(), second.network()), settings);
   EXPECT_EQ(resumed.rgb, before.rgb);
@@ -139,8 +142,8 @@ TEST_F(Training, ResumeContinuesTheLossCurve) {
       EXPECT_GE(log[i][1], log[i - 1][1]) << "time continues across the resume";
     }
   }
-  // The loss is dominated by the Monte Carlo noise of its 4-sample target, so compare means of several rows:
-  // the resumed half continues at the level the first half reached, below where training started.
+  // The resumed half continues at the level the first half reached (means of 5 rows smooth the batch noise)
+  // and goes on falling.
   const auto mean = [&](std::size_t from, std::size_t n) {
     double s = 0;
     for (std::size_t i = from; i < from + n; ++i) s += log[i][2];

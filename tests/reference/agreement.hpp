@@ -48,6 +48,47 @@ inline Agreement agreement(const image::Image& img, const image::Image& ref, int
   return a;
 }
 
+// Our own noise, measured from two renders with different seeds (a and b, each half the samples): the relative
+// noise of their average in each channel mean (worst channel) and the median over 8×8 blocks.
+struct Noise {
+  double mean = 0;
+  double median_block = 0;
+};
+
+inline Noise noise_of_average(const image::Image& a, const image::Image& b, const image::Image& ref) {
+  Noise n;
+  const double pixels = double(a.width) * a.height;
+  for (int c = 0; c < 3; ++c) {
+    double diff = 0, r = 0;
+    for (std::size_t i = std::size_t(c); i < a.rgb.size(); i += 3) {
+      diff += (double(a.rgb[i]) - b.rgb[i]) / pixels;
+      r += ref.rgb[i] / pixels;
+    }
+    n.mean = std::max(n.mean, std::abs(diff) / 2 / r);
+  }
+  std::vector<double> blocks;
+  for (int by = 0; by + 8 <= a.height; by += 8)
+    for (int bx = 0; bx + 8 <= a.width; bx += 8) {
+      double d = 0, r = 0;
+      for (int y = by; y < by + 8; ++y)
+        for (int x = bx; x < bx + 8; ++x)
+          for (int c = 0; c < 3; ++c) {
+            d += (double(a.pixel(x, y)[c]) - b.pixel(x, y)[c]) / (3 * 64);
+            r += ref.pixel(x, y)[c] / (3 * 64);
+          }
+      blocks.push_back(std::abs(d) / 2 / (r + 0.01));
+    }
+  std::nth_element(blocks.begin(), blocks.begin() + std::ptrdiff_t(blocks.size() / 2), blocks.end());
+  n.median_block = blocks[blocks.size() / 2];
+  return n;
+}
+
+inline image::Image average(const image::Image& a, const image::Image& b) {
+  image::Image m = a;
+  for (std::size_t i = 0; i < m.rgb.size(); ++i) m.rgb[i] = 0.5f * (a.rgb[i] + b.rgb[i]);
+  return m;
+}
+
 inline std::ostream& operator<<(std::ostream& os, const Agreement& a) {
   return os << "means (" << a.mean[0] << ", " << a.mean[1] << ", " << a.mean[2] << ") vs reference (" << a.ref_mean[0]
             << ", " << a.ref_mean[1] << ", " << a.ref_mean[2] << "), worst channel-mean error "

@@ -1,6 +1,7 @@
 // Analytic scenes (DESIGN.md §8): radiance known in closed form everywhere.
 #include <gtest/gtest.h>
 
+#include <iostream>
 #include <numeric>
 
 #include "geometry/geometry.hpp"
@@ -34,6 +35,7 @@ TEST_P(Enclosure, RadianceIsEmissionOverOneMinusAlbedo) {
   const auto img = reference::render(geometry, opt);
   const double want = le / (1.0 - rho);
   const std::vector<bool> all(std::size_t(img.width) * std::size_t(img.height), true);
+  std::cout << "enclosure rho " << rho << ": mean " << channel_mean(img, all) << ", want " << want << "\n";
   EXPECT_NEAR(channel_mean(img, all), want, 0.01 * want);
   // Every pixel, too: a pixel's 64 paths have a relative spread of ~sqrt(rho/(1-rho))/8, so 4 of those bound it.
   const double tolerance = 4.0 * std::sqrt(rho / (1.0 - rho)) / 8.0;
@@ -71,6 +73,8 @@ TEST(SphereCap, ScatteredRadianceIsUniform) {
   ASSERT_GT(std::count(on_cap.begin(), on_cap.end(), true), 100);
   ASSERT_GT(std::count(on_rest.begin(), on_rest.end(), true), 100);
   const double scattered = rho * f * le / (1.0 - rho);
+  std::cout << "sphere cap (f = " << f << "): cap " << channel_mean(img, on_cap) << ", want " << le + scattered
+            << "; rest " << channel_mean(img, on_rest) << ", want " << scattered << "\n";
   EXPECT_NEAR(channel_mean(img, on_cap), le + scattered, 0.01 * (le + scattered));
   EXPECT_NEAR(channel_mean(img, on_rest), scattered, 0.01 * scattered);
 }

@@ -32,6 +32,8 @@ struct Case {
   float max_albedo = 1.0f;
 };
 
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+
 Microfacet mf(Microfacet::Type t, float alpha) { return {t, alpha}; }
 constexpr auto kBeckmann = Microfacet::Type::beckmann;
 constexpr auto kGgx = Microfacet::Type::ggx;

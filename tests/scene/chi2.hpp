@@ -76,15 +76,14 @@ struct Chi2Result {
   std::string problem;  // non-empty: samples where the pdf says none can be
 };
 
-inline Chi2Result chi2_test(const scene::Bsdf& bsdf, const scene::Vec3& wo, std::size_t n, std::uint64_t seed) {
-  const scene::Vec2 uv(0.5f);
+// `sample` draws one direction (nullopt: no sample, e.g. a delta lobe or absorption), `pdf` is its claimed density.
+inline Chi2Result chi2_test(const std::function<std::optional<scene::Vec3>(Pcg32&)>& sample,
+                            const std::function<double(const scene::Vec3&)>& pdf, std::size_t n, std::uint64_t seed) {
   std::vector<double> observed(SphereGrid::kTheta * SphereGrid::kPhi, 0.0);
   Pcg32 rng(0, seed);
-  for (std::size_t s = 0; s < n; ++s) {
-    const auto bs = bsdf.sample(uv, wo, rng.next_float(), {rng.next_float(), rng.next_float()});
-    if (bs && !bs->delta) observed[std::size_t(SphereGrid::cell(bs->wi))] += 1;
-  }
-  auto expected = SphereGrid::integrate([&](const scene::Vec3& w) { return double(bsdf.pdf(uv, wo, w)); });
+  for (std::size_t s = 0; s < n; ++s)
+    if (const auto w = sample(rng)) observed[std::size_t(SphereGrid::cell(*w))] += 1;
+  auto expected = SphereGrid::integrate(pdf);
   for (auto& e : expected) e *= double(n);
 
   // Pool the cells with small expected counts (smallest first) until each pool expects at least 5.
@@ -119,6 +118,18 @@ inline Chi2Result chi2_test(const scene::Bsdf& bsdf, const scene::Vec3& wo, std:
   r.dof = bins - 1;
   r.p_value = r.dof > 0 ? gamma_q(0.5 * r.dof, 0.5 * chi2) : 1.0;
   return r;
+}
+
+// A BSDF's non-delta samples for a fixed wo against its pdf.
+inline Chi2Result chi2_test(const scene::Bsdf& bsdf, const scene::Vec3& wo, std::size_t n, std::uint64_t seed) {
+  const scene::Vec2 uv(0.5f);
+  return chi2_test(
+      [&](Pcg32& rng) -> std::optional<scene::Vec3> {
+        const auto bs = bsdf.sample(uv, wo, rng.next_float(), {rng.next_float(), rng.next_float()});
+        if (!bs || bs->delta) return std::nullopt;
+        return bs->wi;
+      },
+      [&](const scene::Vec3& w) { return double(bsdf.pdf(uv, wo, w)); }, n, seed);
 }
 
 }  // namespace clr::test
