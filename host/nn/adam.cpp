@@ -30,7 +30,7 @@ Adam::Adam(cl::Context& ctx, std::size_t count, AdamConfig config)
 void Adam::advance(float& lr, float& c1, float& c2) {
   ++steps_;
   const double t = double(steps_);
-  lr = config_.learning_rate_at(steps_);
+  lr = lr_scale_ * config_.learning_rate_at(steps_);
   c1 = float(1.0 / (1.0 - std::pow(double(config_.beta1), t)));
   c2 = float(1.0 / (1.0 - std::pow(double(config_.beta2), t)));
 }

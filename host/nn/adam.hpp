@@ -37,6 +37,8 @@ class Adam {
 
   std::uint64_t steps() const { return steps_; }
   void set_steps(std::uint64_t s) { steps_ = s; }
+  // A factor on the configured learning rate from the next step on (a trainer's budget-driven annealing).
+  void set_learning_rate_scale(float s) { lr_scale_ = s; }
   const AdamConfig& config() const { return config_; }
   cl::Buffer<float>& first_moment() { return m_; }
   cl::Buffer<float>& second_moment() { return v_; }
@@ -51,6 +53,7 @@ class Adam {
   cl::Context* ctx_;
   AdamConfig config_;
   std::uint64_t steps_ = 0;
+  float lr_scale_ = 1.0f;
   cl::Buffer<float> m_, v_;
   cl::Buffer<std::uint32_t> non_finite_;
   cl::Kernel dense_, sparse_, sparse_fixed_;

@@ -4,7 +4,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <stdexcept>
 
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 
 namespace clr::nn {
@@ -88,18 +90,13 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
   put<std::uint64_t>(header, payload.size());
   put<std::uint64_t>(header, fnv1a64(payload.data(), payload.size()));
 
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write checkpoint " + tmp);
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
     out.write(header.data(), std::streamsize(header.size()));
     out.write(payload.data(), std::streamsize(payload.size()));
-    out.flush();
-    if (!out) throw std::runtime_error("writing checkpoint " + tmp + " failed (disk full?)");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error("cannot rename " + tmp + " to " + path + ": " + ec.message());
+    out.close();
+    if (!out) throw std::runtime_error("writing checkpoint " + path + " failed (disk full?)");
+  });
 }
 
 Checkpoint read_checkpoint(const std::string& path) {

@@ -28,7 +28,7 @@ struct Checkpoint {
   const std::vector<float>& tensor(const std::string& path, const std::string& name, std::size_t count) const;
 };
 
-// Writes to PATH.tmp, flushes, then renames over PATH: a crash never leaves a half-written PATH.
+// Writes under a temporary name, then renames over PATH: a crash never leaves a half-written PATH.
 void write_checkpoint(const std::string& path, const Checkpoint& c);
 // Throws InputError ("checkpoint FILE: …") when the file is missing, truncated, corrupt or of another version.
 Checkpoint read_checkpoint(const std::string& path);

@@ -38,6 +38,9 @@ class Encoder {
   void forward(const cl::Buffer<float>& raw, std::size_t row0, std::size_t rows, cl::Buffer<float>& encoded);
   // dL/dencoded [rows × outputs()] → dL/dtable of the hash grid (the other parts have no parameters).
   void backward(const cl::Buffer<float>& raw, std::size_t row0, std::size_t rows, const cl::Buffer<float>& d_encoded);
+  void set_learning_rate_scale(float s) {
+    if (grid_) grid_->adam().set_learning_rate_scale(s);
+  }
   void adam_step() {
     if (grid_) grid_->adam_step();
   }

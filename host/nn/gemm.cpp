@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 
 namespace clr::nn {
@@ -244,12 +245,12 @@ GemmBackend probe_gemm_backend(cl::Context& ctx) {
   const double blast = time_of(GemmChoice::CLBlast);
   const GemmBackend winner = blast < own ? GemmBackend::CLBlast : GemmBackend::Own;
   if (!file.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(file.parent_path(), ec);
     cache[key] = to_string(winner);
-    const auto tmp = file.string() + ".tmp";
-    std::ofstream(tmp) << cache.dump(2) << "\n";
-    std::filesystem::rename(tmp, file, ec);  // best effort: a read-only cache only costs a re-probe
+    try {
+      write_text_atomically(file, cache.dump(2) + "\n");
+    } catch (const std::exception&) {
+      // best effort: an unwritable cache only costs a re-probe next time
+    }
   }
   return winner;
 }

@@ -193,6 +193,11 @@ void Network::infer(const cl::Buffer<float>& raw, std::size_t rows, cl::Buffer<f
   }
 }
 
+void Network::set_learning_rate_scale(float s) {
+  adam_.set_learning_rate_scale(s);
+  encoder_.set_learning_rate_scale(s);
+}
+
 void Network::adam_step() {
   adam_.step(mlp_.params(), mlp_.grads());
   encoder_.adam_step();

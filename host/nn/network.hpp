@@ -62,6 +62,8 @@ class Network {
   void backward(NetworkContext& c, const cl::Buffer<float>& d_output);
   void infer(const cl::Buffer<float>& raw, std::size_t rows, cl::Buffer<float>& output);
   void adam_step();
+  // Scales every Adam's learning rate (MLP and encoder) from the next step on.
+  void set_learning_rate_scale(float s);
   std::uint64_t steps() const { return adam_.steps(); }
 
   // Checkpoint (nn/checkpoint.hpp): config, parameters, optimiser state, step and the trainer's RNG state.

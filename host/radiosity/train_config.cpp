@@ -1,5 +1,6 @@
 #include "radiosity/train_config.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -23,9 +24,16 @@ void TrainConfig::validate() const {
   require(batch >= 0 && batch <= (1 << 22), "batch", batch, "in [1, 4194304] (0 = automatic)");
   require(steps >= 0, "steps", steps, ">= 0");
   require(minutes >= 0 && std::isfinite(minutes), "minutes", minutes, ">= 0");
+  require(anneal_start >= 0 && anneal_start <= 1, "anneal_start", anneal_start, "in [0, 1]");
+  require(anneal_final > 0 && anneal_final <= 1, "anneal_final", anneal_final, "in (0, 1]");
   require(log_every >= 1, "log_every", log_every, ">= 1");
   require(checkpoint_every >= 1, "checkpoint_every", checkpoint_every, ">= 1");
   require(network.is_object(), "network", network, "an object");
+}
+
+double TrainConfig::learning_rate_scale(double progress) const {
+  if (progress <= anneal_start || anneal_start >= 1) return 1.0;
+  return std::pow(anneal_final, (std::min(progress, 1.0) - anneal_start) / (1.0 - anneal_start));
 }
 
 TrainConfig parse_train_config(const nlohmann::json& j, const TrainConfig& base) {

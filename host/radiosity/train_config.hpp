@@ -17,18 +17,26 @@ struct TrainConfig {
   long steps = 0;                     // stop after this many steps in total (0 = no step limit)
   double minutes = 0;                 // stop after this much wall time in this session (0 = no time limit)
   std::uint64_t seed = 1;
+  // Learning-rate annealing over the run's budget (--steps, else this session's --minutes): the rate holds until
+  // the fraction `anneal_start` of the budget is spent, then falls geometrically to `anneal_final` × itself at the
+  // end. A noisy Monte Carlo target needs it: at a constant rate the fit keeps the noise of the last steps.
+  double anneal_start = 0.5;
+  double anneal_final = 0.05;
   long log_every = 25;  // rows of log.csv
   long checkpoint_every = 500;
   // Overrides of the N-Module's settings (encoder, MLP, Adam, gemm backend) as a JSON merge patch over the
   // scene's defaults; a run's config.json stores the complete result.
   nlohmann::json network = nlohmann::json::object();
 
+  // The factor on the learning rate once `progress` ∈ [0, 1] of the budget is spent.
+  double learning_rate_scale(double progress) const;
+
   // Throws InputError naming the first impossible setting (e.g. "samples must be ≥ 1, got 0").
   void validate() const;
 };
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, residual, samples, batch, steps, minutes, seed,
-                                                log_every, checkpoint_every, network)
+                                                anneal_start, anneal_final, log_every, checkpoint_every, network)
 
 // Applies the keys of `j` over `base`. An unknown key or a value of the wrong type is an InputError naming the
 // key (a misspelt key must not be silently ignored); the result is validated.

@@ -1,5 +1,6 @@
 #include "radiosity/trainer.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -155,10 +156,18 @@ void Trainer::run() {
   long loss_steps = 0;
   std::size_t lookups = 0;
   std::string last;
+  // The spent fraction of whichever budget ends the run first.
+  const auto spent = [&] {
+    double f = 0;
+    if (config_.steps > 0) f = double(network_->steps()) / double(config_.steps);
+    if (budget_s > 0) f = std::max(f, elapsed() / budget_s);
+    return f;
+  };
   while (!stop_requested()) {
-    const auto done = long(network_->steps());
-    if (config_.steps > 0 && done >= config_.steps) break;
-    if (budget_s > 0 && elapsed() >= budget_s) break;
+    const double fraction = spent();
+    if (fraction >= 1.0) break;
+    const double lr_scale = config_.learning_rate_scale(fraction);
+    network_->set_learning_rate_scale(float(lr_scale));
     lookups += step().lookups;
     ++loss_steps;
     const long now = long(network_->steps());
@@ -168,7 +177,7 @@ void Trainer::run() {
       char row[256];
       std::snprintf(row, sizeof row, "%ld,%.3f,%.6g,%.3f,%u,%.6g", now, seconds_before_ + elapsed(), loss_sum,
                     double(lookups) / double(loss_steps * config_.batch * config_.samples), v.non_finite,
-                    double(network_->config().adam.learning_rate_at(std::uint64_t(now))));
+                    lr_scale * double(network_->config().adam.learning_rate_at(std::uint64_t(now))));
       append_log(row);
       char detail[128];
       std::snprintf(detail, sizeof detail, "step %ld  loss %.4g  %.2f steps/s", now, loss_sum,

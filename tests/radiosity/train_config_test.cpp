@@ -47,6 +47,21 @@ TEST(TrainConfig, ImpossibleSettingsNameTheKey) {
   EXPECT_EQ(error_of({{"minutes", 3}}), "") << "an integer is a fine value for a real-valued key";
 }
 
+TEST(TrainConfig, LearningRateAnnealsGeometricallyOverTheBudget) {
+  TrainConfig c;
+  c.anneal_start = 0.5;
+  c.anneal_final = 0.01;
+  EXPECT_EQ(c.learning_rate_scale(0.0), 1.0);
+  EXPECT_EQ(c.learning_rate_scale(0.5), 1.0);
+  EXPECT_NEAR(c.learning_rate_scale(0.75), 0.1, 1e-12);
+  EXPECT_NEAR(c.learning_rate_scale(1.0), 0.01, 1e-12);
+  EXPECT_NEAR(c.learning_rate_scale(3.0), 0.01, 1e-12) << "past the budget the rate stays at its final value";
+  c.anneal_start = 1.0;
+  EXPECT_EQ(c.learning_rate_scale(1.0), 1.0) << "anneal_start 1 switches annealing off";
+  EXPECT_THAT(error_of({{"anneal_final", 0}}), HasSubstr("anneal_final"));
+  EXPECT_THAT(error_of({{"anneal_start", 1.5}}), HasSubstr("anneal_start"));
+}
+
 TEST(TrainConfig, FileErrorsNameTheFile) {
   const auto path = std::filesystem::temp_directory_path() / "clr_bad_config.json";
   std::ofstream(path) << "{ \"samples\": 4,";

@@ -85,6 +85,13 @@ TEST_F(Training, FurnaceConvergesToTheAnalyticRadiance) {
   // the first bounce (scattered ρ·Le = 0.5, pixel 1.5) fails both by far.
   EXPECT_NEAR(image_mean(img), 2.0, 0.02);
   for (float v : img.rgb) ASSERT_NEAR(v, 2.0f, 0.2f);
+
+  // The learning rate held for the first half of the budget and annealed to its final fraction at the end.
+  const auto log = read_log(run.path);
+  const double lr = trainer.network().config().adam.learning_rate, final_lr = lr * trainer.config().anneal_final;
+  EXPECT_NEAR(log[log.size() / 2 - 1][5], lr, 1e-5 * lr);
+  EXPECT_LT(log.back()[5], 1.1 * final_lr);
+  EXPECT_GE(log.back()[5], final_lr);
 }
 
 TEST_F(Training, CornellBoxErrorAndResidualFallWithSteps) {
@@ -119,7 +126,11 @@ TEST_F(Training, ResumeContinuesTheLossCurve) {
   TempRun run("resume");
   image::Image before;
   {
-    radiosity::Trainer first(ctx(), geometry, small_config(100), run.path, false);
+    // Annealing off: the first session would anneal to its own 100-step budget, and the comparison of the two
+    // halves below is about the checkpoint carrying the state across, not about the learning rate.
+    auto config = small_config(100);
+    config.anneal_start = 1.0;
+    radiosity::Trainer first(ctx(), geometry, config, run.path, false);
     first.run();
     before = radiosity::render(geometry, radiosity::radiance_query(ctx(), first.network()), settings);
   }
