@@ -38,10 +38,15 @@ inline void grid_cell(float3 p, uint res, uint3* cell, float3* frac) {
   *frac = pos - c;
 }
 
-inline float3 normalized_position(__global const float* in, uint row, uint in_off, uint in_ld, float3 lo,
-                                  float3 inv_extent) {
+inline float3 normalized_position(__global const float* in, uint row, uint in_off, uint in_ld, float lo_x, float lo_y,
+                                  float lo_z, float inv_x, float inv_y, float inv_z) {
   const uint b = in_off + row * in_ld;
-  return ((float3)(in[b], in[b + 1], in[b + 2]) - lo) * inv_extent;
+  return ((float3)(in[b], in[b + 1], in[b + 2]) - (float3)(lo_x, lo_y, lo_z)) * (float3)(inv_x, inv_y, inv_z);
+}
+
+// Trilinear weight of the cell corner at offset d ∈ {0, 1}³ for the fractional position t.
+inline float corner_weight(uint3 d, float3 t) {
+  return (d.x ? t.x : 1.0f - t.x) * (d.y ? t.y : 1.0f - t.y) * (d.z ? t.z : 1.0f - t.z);
 }
 
 // Work-item (row, level): out[row, out_col + level·F + f].
@@ -55,13 +60,12 @@ __kernel void hashgrid_forward(uint rows, uint levels, __global const float* in,
   const uint4 info = level_info[l];
   uint3 c;
   float3 t;
-  grid_cell(normalized_position(in, row, in_off, in_ld, (float3)(lo_x, lo_y, lo_z), (float3)(inv_x, inv_y, inv_z)),
-            info.x, &c, &t);
+  grid_cell(normalized_position(in, row, in_off, in_ld, lo_x, lo_y, lo_z, inv_x, inv_y, inv_z), info.x, &c, &t);
   float acc[F];
   for (uint f = 0; f < F; ++f) acc[f] = 0.0f;
   for (uint corner = 0; corner < 8; ++corner) {
     const uint3 d = (uint3)(corner & 1, (corner >> 1) & 1, corner >> 2);
-    const float w = (d.x ? t.x : 1.0f - t.x) * (d.y ? t.y : 1.0f - t.y) * (d.z ? t.z : 1.0f - t.z);
+    const float w = corner_weight(d, t);
     __global const float* e = table + (size_t)(info.z + grid_index(c + d, info)) * F;
     for (uint f = 0; f < F; ++f) acc[f] = fma(w, e[f], acc[f]);
   }
@@ -81,8 +85,7 @@ __kernel void hashgrid_backward(uint rows, uint levels, __global const float* in
   const uint4 info = level_info[l];
   uint3 c;
   float3 t;
-  grid_cell(normalized_position(in, row, in_off, in_ld, (float3)(lo_x, lo_y, lo_z), (float3)(inv_x, inv_y, inv_z)),
-            info.x, &c, &t);
+  grid_cell(normalized_position(in, row, in_off, in_ld, lo_x, lo_y, lo_z, inv_x, inv_y, inv_z), info.x, &c, &t);
   float g[F];
   __global const float* dr = d_out + d_off + row * d_ld + l * F;
   bool any = false;
@@ -92,7 +95,7 @@ __kernel void hashgrid_backward(uint rows, uint levels, __global const float* in
   }
   for (uint corner = 0; corner < 8; ++corner) {
     const uint3 d = (uint3)(corner & 1, (corner >> 1) & 1, corner >> 2);
-    const float w = (d.x ? t.x : 1.0f - t.x) * (d.y ? t.y : 1.0f - t.y) * (d.z ? t.z : 1.0f - t.z);
+    const float w = corner_weight(d, t);
     const uint e = info.z + grid_index(c + d, info);
     // Zero contributions are skipped: they change nothing and an uncontended table is much cheaper to update.
     if (w == 0.0f || !any) continue;

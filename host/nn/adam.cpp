@@ -46,28 +46,27 @@ void Adam::step(cl::Buffer<float>& params, cl::Buffer<float>& grads) {
       .launch(params.size(), 64);
 }
 
-void Adam::step_sparse(cl::Buffer<float>& params, cl::Buffer<float>& grads, cl::Buffer<std::uint8_t>& touched,
-                       std::size_t features) {
+template <typename G>
+void Adam::step_table(cl::Kernel& kernel, cl::Buffer<float>& params, cl::Buffer<G>& grads,
+                      cl::Buffer<std::uint8_t>& touched, std::size_t features) {
   if (params.size() != m_.size() || grads.size() != m_.size() || touched.size() * features != params.size())
     throw std::logic_error("adam: table, gradient, moment and touched-flag sizes disagree");
   float lr, c1, c2;
   advance(lr, c1, c2);
-  sparse_
+  kernel
       .args(u32(touched.size()), u32(features), touched, params, grads, m_, v_, lr, config_.beta1, config_.beta2,
             config_.epsilon, config_.weight_decay, c1, c2, non_finite_)
       .launch(touched.size(), 64);
 }
 
+void Adam::step_sparse(cl::Buffer<float>& params, cl::Buffer<float>& grads, cl::Buffer<std::uint8_t>& touched,
+                       std::size_t features) {
+  step_table(sparse_, params, grads, touched, features);
+}
+
 void Adam::step_sparse_fixed(cl::Buffer<float>& params, cl::Buffer<std::int64_t>& grads,
                              cl::Buffer<std::uint8_t>& touched, std::size_t features) {
-  if (params.size() != m_.size() || grads.size() != m_.size() || touched.size() * features != params.size())
-    throw std::logic_error("adam: table, gradient, moment and touched-flag sizes disagree");
-  float lr, c1, c2;
-  advance(lr, c1, c2);
-  sparse_fixed_
-      .args(u32(touched.size()), u32(features), touched, params, grads, m_, v_, lr, config_.beta1, config_.beta2,
-            config_.epsilon, config_.weight_decay, c1, c2, non_finite_)
-      .launch(touched.size(), 64);
+  step_table(sparse_fixed_, params, grads, touched, features);
 }
 
 }  // namespace clr::nn

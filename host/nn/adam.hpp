@@ -49,6 +49,9 @@ class Adam {
 
  private:
   void advance(float& lr, float& c1, float& c2);
+  template <typename G>
+  void step_table(cl::Kernel& kernel, cl::Buffer<float>& params, cl::Buffer<G>& grads,
+                  cl::Buffer<std::uint8_t>& touched, std::size_t features);
 
   cl::Context* ctx_;
   AdamConfig config_;

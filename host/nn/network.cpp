@@ -1,5 +1,7 @@
 #include "nn/network.hpp"
 
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "common/error.hpp"
@@ -22,13 +24,26 @@ MlpConfig mlp_config(const NetworkConfig& c, std::size_t inputs) {
 // Encoder parameters are seeded apart from the MLP's so that changing one part does not reshuffle the other.
 constexpr std::uint64_t kEncoderSeedSalt = 0x9e3779b97f4a7c15ull;
 
+// The shortest decimal that reads back as `f`, so config.json says 0.9, not 0.8999999761581421.
+double shortest(float f) {
+  char text[32];
+  for (int digits = 1; digits < 9; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, double(f));
+    // Read back as the JSON loader does: a double, then narrowed.
+    if (const double d = std::strtod(text, nullptr); float(d) == f) return d;
+  }
+  return double(f);
+}
+
+nlohmann::json shortest(const std::array<float, 3>& v) { return {shortest(v[0]), shortest(v[1]), shortest(v[2])}; }
+
 nlohmann::json adam_json(const AdamConfig& a) {
-  return {{"learning_rate", a.learning_rate},
-          {"beta1", a.beta1},
-          {"beta2", a.beta2},
-          {"epsilon", a.epsilon},
-          {"weight_decay", a.weight_decay},
-          {"decay", a.decay},
+  return {{"learning_rate", shortest(a.learning_rate)},
+          {"beta1", shortest(a.beta1)},
+          {"beta2", shortest(a.beta2)},
+          {"epsilon", shortest(a.epsilon)},
+          {"weight_decay", shortest(a.weight_decay)},
+          {"decay", shortest(a.decay)},
           {"decay_start", a.decay_start},
           {"decay_interval", a.decay_interval}};
 }
@@ -68,10 +83,13 @@ nlohmann::json to_json(const NetworkConfig& c) {
                         {"roughness", c.encoder.roughness}};
   if (c.encoder.grid) {
     const auto& g = *c.encoder.grid;
-    enc["grid"] = {{"levels", g.levels},         {"features", g.features},
-                   {"log2_table", g.log2_table}, {"base_resolution", g.base_resolution},
-                   {"growth", g.growth},         {"bbox_lo", g.bbox_lo},
-                   {"bbox_hi", g.bbox_hi}};
+    enc["grid"] = {{"levels", g.levels},
+                   {"features", g.features},
+                   {"log2_table", g.log2_table},
+                   {"base_resolution", g.base_resolution},
+                   {"growth", g.growth},
+                   {"bbox_lo", shortest(g.bbox_lo)},
+                   {"bbox_hi", shortest(g.bbox_hi)}};
   } else {
     enc["grid"] = nullptr;
   }
