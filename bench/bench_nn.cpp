@@ -145,10 +145,11 @@ int main(int argc, char** argv) {
       }
       if (err > 1e-4 * scale) {
         std::fprintf(stderr, "bench_nn: %s GEMM differs from OpenBLAS by %g (max |C| %g)\n",
-                     nn::to_string(g.backend()).c_str(), err, scale);
+                     nn::to_string(g.plan()).c_str(), err, scale);
         return 1;
       }
       gemm_rows.push_back({{"backend", nn::to_string(g.backend())},
+                           {"plan", nn::to_string(g.plan())},
                            {"rows", rows},
                            {"gflops", gf},
                            {"openblas_gflops", blas},
@@ -156,7 +157,7 @@ int main(int argc, char** argv) {
       if (!json)
         std::printf(
             "GEMM (%zux512)·(512x512) %-8s %7.1f GFLOP/s  (%.0f%% of FMA peak; OpenBLAS %.1f GFLOP/s, ratio %.2f)\n",
-            rows, nn::to_string(g.backend()).c_str(), gf, 100 * gf / peak, blas, gf / blas);
+            rows, nn::to_string(g.plan()).c_str(), gf, 100 * gf / peak, blas, gf / blas);
     }
   }
   // The I-Module's MLP (59 → 3 × 64 → 32) at inference: the fused one-launch kernel against per-layer GEMMs.
@@ -237,7 +238,7 @@ int main(int argc, char** argv) {
   if (!json) {
     std::printf("N-Module step (hash grid %zux%zu T=2^%zu + 4x512 MLP, B=%zu, +%zu·B inference), GEMM %s:\n",
                 cfg.encoder.grid->levels, cfg.encoder.grid->features, cfg.encoder.grid->log2_table, B, N,
-                nn::to_string(net.gemm().backend()).c_str());
+                nn::to_string(net.gemm().plan()).c_str());
     std::printf(
         "  ours    %8.1f ms (median of %d; forward %.0f, inference %.0f, loss+backward %.0f, adam %.0f ms avg)\n",
         ours_ms, reps, 1000 * t_fwd / reps, 1000 * t_inf / reps, 1000 * t_bwd / reps, 1000 * t_adam / reps);

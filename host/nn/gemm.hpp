@@ -2,11 +2,14 @@
 // Matrix products for the networks, on one of two backends chosen per device (DESIGN.md §6):
 //   own      kernels/gemm.cl, register-blocked without local memory: fast on PoCL's CPU device;
 //   clblast  CLBlast's tuned kernels on our cl_mem and queue: fast on GPUs, untuned (slow) on PoCL.
-// `auto` times both on a 4096×512×512 product once per device and driver and caches the winner
-// ($XDG_CACHE_HOME/clradiosity/gemm_backend.json, else ~/.cache/...).
+// The own kernel's register tile must fit the vector register file, which differs between CPUs (AVX-512: 32 × 16
+// floats, AVX2: 16 × 8), so it has a few candidate tiles per device type. `auto` times every candidate and CLBlast,
+// `own` only the tiles, on a 4096×512×512 product once per device and driver; the times are cached
+// ($XDG_CACHE_HOME/clradiosity/gemm_probe.json, else ~/.cache/...).
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "cl/buffer.hpp"
 #include "cl/context.hpp"
@@ -22,6 +25,21 @@ enum class Act : unsigned { None = 0, Relu = 1 };  // values match ACT_* in kern
 // "auto" | "own" | "clblast" (the engine config's `gemm` entry); anything else throws InputError.
 GemmChoice parse_gemm_choice(const std::string& text);
 std::string to_string(GemmBackend backend);
+
+// A work-item of the own kernel computes tm rows × (vw·nv) columns of C (TM, VW, NV in kernels/gemm.cl).
+struct GemmTile {
+  unsigned tm, vw, nv;
+  unsigned columns() const { return vw * nv; }
+};
+// What a Gemm runs: the backend, and the tile of the own kernels (used for every product on `own`).
+struct GemmPlan {
+  GemmBackend backend;
+  GemmTile tile;
+};
+std::string to_string(const GemmPlan& plan);  // "clblast" or "own TMxVWxNV", e.g. "own 6x16x1"
+
+// The own kernel's candidate tiles for this device, the first being the default when nothing is timed.
+std::vector<GemmTile> gemm_tiles(const cl::DeviceInfo& device);
 
 // A row-major matrix inside a buffer: element (i, j) is at buf[offset + i·ld + j].
 struct MatRef {
@@ -41,8 +59,10 @@ struct Epilogue {
 class Gemm {
  public:
   Gemm(cl::Context& ctx, GemmChoice choice = GemmChoice::Auto);
+  Gemm(cl::Context& ctx, const GemmPlan& plan);
 
-  GemmBackend backend() const { return backend_; }
+  GemmBackend backend() const { return plan_.backend; }
+  const GemmPlan& plan() const { return plan_; }
 
   // C[m×n] = act(alpha · op(A)[m×k] · op(B)[k×n] + beta · C + bias). With beta == 0, C is not read.
   void run(Op op_a, Op op_b, std::size_t m, std::size_t n, std::size_t k, float alpha, MatRef a, MatRef b, float beta,
@@ -58,15 +78,15 @@ class Gemm {
   cl::Buffer<float>& scratch(std::optional<cl::Buffer<float>>& slot, std::size_t count);
 
   cl::Context* ctx_;
-  GemmBackend backend_;
-  std::size_t tm_ = 8, tn_ = 32;
+  GemmPlan plan_;
+  std::size_t tm_, tn_;
   std::optional<cl::Kernel> gemm_, reduce_, transpose_, bias_act_, narrow_nn_, narrow_tn_, zero_;
   std::optional<cl::Buffer<float>> transposed_b_, partials_, narrow_bt_;
 };
 
-// Times both backends on this device (a few hundred ms) and returns the faster; the result is cached on disk
-// keyed by device name and driver version, so later runs pay nothing.
-GemmBackend probe_gemm_backend(cl::Context& ctx);
+// The fastest plan for `choice` on this device (CLBlast needs no timing). Timing a candidate costs a kernel build
+// and a few hundred ms; times are cached on disk keyed by device name and driver version, so later runs pay nothing.
+GemmPlan choose_gemm_plan(cl::Context& ctx, GemmChoice choice);
 
 // Checked narrowing for kernel arguments: kernels index with 32-bit integers (buffers are ≤ 1 GiB on PoCL).
 unsigned u32(std::size_t v);

@@ -94,9 +94,19 @@ class GemmTest : public ClTest {
   }
 };
 
-TEST_F(GemmTest, OwnKernelMatchesTwin) {
-  nn::Gemm gemm(ctx(), nn::GemmChoice::Own);
-  for (const auto& c : cases()) check(gemm, c);
+// Every candidate tile of CPUs and GPUs, not only the one the probe picks here: another device picks another.
+TEST_F(GemmTest, OwnKernelMatchesTwinWithEveryTile) {
+  std::vector<nn::GemmTile> tiles;
+  for (const char* type : {"cpu", "gpu"}) {
+    cl::DeviceInfo device = ctx().device();
+    device.type = type;
+    for (const auto& t : nn::gemm_tiles(device)) tiles.push_back(t);
+  }
+  for (const auto& tile : tiles) {
+    nn::Gemm gemm(ctx(), nn::GemmPlan{nn::GemmBackend::Own, tile});
+    SCOPED_TRACE(nn::to_string(gemm.plan()));
+    for (const auto& c : cases()) check(gemm, c);
+  }
 }
 
 TEST_F(GemmTest, ClblastMatchesTwin) {
