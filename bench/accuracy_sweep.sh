@@ -24,6 +24,7 @@ done
 [ "${1:-}" = "--" ] && shift
 bin=${CLRADIOSITY:-build/release/clradiosity}
 out=${SWEEP_DIR:-$(mktemp -d)}
+mkdir -p "$out"
 scene=$scene_dir/scene.xml
 ref=$scene_dir/TungstenRender.exr
 json() { python3 -c "import json,sys; d=json.load(sys.stdin); print(d['$1'])"; }

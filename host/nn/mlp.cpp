@@ -188,8 +188,8 @@ void Mlp::infer(const cl::Buffer<float>& input, std::size_t rows, cl::Buffer<flo
                  {&params_, bias_offset(l), Act::Relu});
       x = mat(y, W);
     }
-    gemm_->run(Op::N, Op::N, cr, O, fan_in(H), 1.0f, x, mat(params_, O, weight_offset(H)), 0.0f, mat(output, O, r0 * O),
-               {&params_, bias_offset(H), Act::None});
+    gemm_->run(Op::N, Op::N, cr, O, fan_in(H), 1.0f, x, mat(params_, O, weight_offset(H)), 0.0f,
+               mat(output, O, (out_row + r0) * O), {&params_, bias_offset(H), Act::None});
   }
   if (config_.output_activation == OutputActivation::Abs)
     abs_.args(u32(rows * O), output, output, u32(out_row * O)).launch(rows * O);

@@ -61,6 +61,17 @@ TEST_P(MlpTest, ForwardInferAndGradientsMatchTwin) {
   inf.read(inf_host);
   EXPECT_TRUE(all_near(std::span<const float>(inf_host.data(), rows * O), std::span<const double>(want)));
   EXPECT_TRUE(canaries_intact(inf_host, rows * O));
+  // Into rows further down a bigger buffer, as Network::infer writes its chunks: rows before stay untouched.
+  const std::size_t out_row = 3;
+  auto shifted_host = with_canaries((out_row + rows) * O);
+  cl::Buffer<float> shifted(ctx(), std::span<const float>(shifted_host));
+  mlp.infer(dx_in, rows, shifted, out_row);
+  const auto before = shifted_host;
+  shifted.read(shifted_host);
+  EXPECT_TRUE(std::equal(before.begin(), before.begin() + long(out_row * O), shifted_host.begin()));
+  EXPECT_TRUE(
+      all_near(std::span<const float>(shifted_host.data() + out_row * O, rows * O), std::span<const double>(want)));
+  EXPECT_TRUE(canaries_intact(shifted_host, (out_row + rows) * O));
 
   auto d_in_host = with_canaries(rows * I);
   cl::Buffer<float> d_in(ctx(), std::span<const float>(d_in_host));
