@@ -36,13 +36,12 @@ for minutes in "${budgets[@]}"; do
   run=$out/run-${minutes}min
   rm -rf "$run"
   "$bin" train "$scene" --minutes "$minutes" -o "$run" "$@" >"$run.train.log" 2>&1
-  steps=$(tail -n 1 "$run/log.csv" | cut -d, -f1)
-  seconds=$(tail -n 1 "$run/log.csv" | cut -d, -f2)
+  steps=$(sed -n 's/^model: .* (\([0-9]*\) steps)$/\1/p' "$run.train.log")
   "$bin" render "$scene" --model "$run" --width "$width" --height "$height" --spp 16 -o "$run.exr" \
     --png "$run.png" >/dev/null
   metrics=$("$bin" compare "$run.exr" "$ref" --json)
   residual=$("$bin" residual "$scene" --model "$run" --points 8192 --samples 64 --json)
   printf "| %s min | %s | %.2f | %.4f | %.4f | %s | %.4g ± %.2g |\n" "$minutes" "$steps" \
-    "$(python3 -c "print($steps / $seconds)")" "$(json mape <<<"$metrics")" "$(json relmse <<<"$metrics")" \
+    "$(python3 -c "print($steps / ($minutes * 60))")" "$(json mape <<<"$metrics")" "$(json relmse <<<"$metrics")" \
     "$(json non_finite <<<"$metrics")" "$(json residual <<<"$residual")" "$(json standard_error <<<"$residual")"
 done
