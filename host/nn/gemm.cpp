@@ -72,8 +72,7 @@ std::vector<GemmTile> gemm_tiles(const cl::DeviceInfo& device) {
 
 Gemm::Gemm(cl::Context& ctx, GemmChoice choice) : Gemm(ctx, choose_gemm_plan(ctx, choice)) {}
 
-Gemm::Gemm(cl::Context& ctx, const GemmPlan& plan)
-    : ctx_(&ctx), plan_(plan), tm_(plan.tile.tm), tn_(plan.tile.columns()) {
+Gemm::Gemm(cl::Context& ctx, const GemmPlan& plan) : ctx_(&ctx), plan_(plan) {
   const auto& t = plan.tile;
   const auto& program = ctx.program(
       {"gemm.cl"}, "-DTM=" + std::to_string(t.tm) + " -DVW=" + std::to_string(t.vw) + " -DNV=" + std::to_string(t.nv));
@@ -113,14 +112,14 @@ void Gemm::run_own(Op op_a, Op op_b, std::size_t m, std::size_t n, std::size_t k
   // so an explicit transpose costs far less than the product.
   unsigned b_padded = 0;
   if (op_b == Op::T) {
-    auto& t = scratch(transposed_b_, k * n + tn_);  // + a tile of padding: see b_padded in gemm.cl
+    auto& t = scratch(transposed_b_, k * n + plan_.tile.columns());  // + a tile of padding: see b_padded in gemm.cl
     transpose_->args(u32(n), u32(k), *b.buf, u32(b.offset), u32(b.ld), t).launch({k, n}, {16, 4});
     b = mat(t, n);
     b_padded = 1;
   }
   const std::size_t a_rs = op_a == Op::N ? a.ld : 1;
   const std::size_t a_cs = op_a == Op::N ? 1 : a.ld;
-  const std::size_t tiles_n = ceil_div(n, tn_), tiles_m = ceil_div(m, tm_);
+  const std::size_t tiles_n = ceil_div(n, plan_.tile.columns()), tiles_m = ceil_div(m, plan_.tile.tm);
   // Split-K when the output alone has too few tiles to fill the device (dW = dYᵀ·X: 512 × 512 outputs but a
   // reduction over the whole batch). CPUs want a few tiles per core, GPUs thousands of threads.
   const bool cpu = ctx_->device().type == "cpu";

@@ -79,7 +79,6 @@ class Gemm {
 
   cl::Context* ctx_;
   GemmPlan plan_;
-  std::size_t tm_, tn_;
   std::optional<cl::Kernel> gemm_, reduce_, transpose_, bias_act_, narrow_nn_, narrow_tn_, zero_;
   std::optional<cl::Buffer<float>> transposed_b_, partials_, narrow_bt_;
 };

@@ -64,9 +64,9 @@ TEST_P(MlpTest, ForwardInferAndGradientsMatchTwin) {
   // Into rows further down a bigger buffer, as Network::infer writes its chunks: rows before stay untouched.
   const std::size_t out_row = 3;
   auto shifted_host = with_canaries((out_row + rows) * O);
+  const auto before = shifted_host;
   cl::Buffer<float> shifted(ctx(), std::span<const float>(shifted_host));
   mlp.infer(dx_in, rows, shifted, out_row);
-  const auto before = shifted_host;
   shifted.read(shifted_host);
   EXPECT_TRUE(std::equal(before.begin(), before.begin() + long(out_row * O), shifted_host.begin()));
   EXPECT_TRUE(

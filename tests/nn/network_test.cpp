@@ -63,8 +63,8 @@ std::vector<float> raw_rows(std::size_t rows, unsigned seed) {
   return raw;
 }
 
-// A batch longer than one chunk (the residual metric's and the renderer's usual case) is inferred chunk by chunk
-// into its own rows of the output: bit-identical to the same network inferring it in one piece.
+// A batch longer than one chunk (the residual metric's usual case: P·S rows in 262144-row pieces) is inferred chunk by
+// chunk into its own rows of the output: bit-identical to the same network inferring it in one piece.
 TEST_F(ClTest, ChunkedInferenceMatchesOnePiece) {
   const std::size_t rows = 30;
   auto chunked_cfg = small_network();
