@@ -204,7 +204,7 @@ int main(int argc, char** argv) {
   for (auto& t : target) t = std::uniform_real_distribution<float>(0.0f, 1.0f)(rng);
   cl::Buffer<float> draw(ctx, std::span<const float>(raw)), dinc(ctx, std::span<const float>(incident)),
       dt(ctx, std::span<const float>(target)), grad(ctx, B * 3), li(ctx, N * B * 3);
-  nn::Loss loss(ctx, nn::LossKind::RelativeL2);
+  nn::Loss loss(ctx);
   nn::NetworkContext c;
   double t_fwd = 0, t_inf = 0, t_bwd = 0, t_adam = 0;
   auto step = [&](bool timed) {
@@ -217,7 +217,7 @@ int main(int argc, char** argv) {
     ctx.finish();
     if (timed) t_inf += seconds_since(t0);
     t0 = Clock::now();
-    loss.evaluate(c.output(), dt, B * 3, 1.0f / float(B * 3), grad);
+    loss.evaluate(c.output(), dt, B * 3, 1.0f / float(B * 3), 1.0f, grad);
     net.backward(c, grad);
     ctx.finish();
     if (timed) t_bwd += seconds_since(t0);

@@ -4,21 +4,16 @@
 
 namespace clr::nn {
 
-Loss::Loss(cl::Context& ctx, LossKind kind)
-    : kind_(kind),
-      total_(ctx, 1),
-      non_finite_(ctx, 1),
-      kernel_(ctx.program({"atomics.cl", "loss.cl"}).kernel("loss_l2")) {
+Loss::Loss(cl::Context& ctx)
+    : total_(ctx, 1), non_finite_(ctx, 1), kernel_(ctx.program({"atomics.cl", "loss.cl"}).kernel("loss_l2")) {
   total_.fill(0.0f);
   non_finite_.fill(0u);
 }
 
 void Loss::evaluate(const cl::Buffer<float>& pred, const cl::Buffer<float>& target, std::size_t n, float scale,
-                    cl::Buffer<float>& grad) {
+                    float power, cl::Buffer<float>& grad) {
   constexpr std::size_t local = 64;  // a power of two: the kernel's tree reduction needs one
-  kernel_
-      .args(u32(n), pred, target, scale, kind_ == LossKind::RelativeL2 ? 1u : 0u, grad, total_, non_finite_,
-            cl::LocalMemory{local * sizeof(float)})
+  kernel_.args(u32(n), pred, target, scale, power, grad, total_, non_finite_, cl::LocalMemory{local * sizeof(float)})
       .launch(n, local);
 }
 

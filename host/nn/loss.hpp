@@ -1,6 +1,6 @@
 #pragma once
-// The residual losses of training (DESIGN.md §2): L2 and relative L2 r² / (sg(pred)² + 0.01), with their gradient
-// w.r.t. the prediction. Non-finite elements are dropped and counted.
+// The residual loss of training (DESIGN.md §2), r² / (sg(pred)² + 0.01)^power — power 0 is L2, 1 relative L2 —
+// with its gradient w.r.t. the prediction. Non-finite elements are dropped and counted.
 #include <cstdint>
 
 #include "cl/buffer.hpp"
@@ -9,8 +9,6 @@
 
 namespace clr::nn {
 
-enum class LossKind { L2, RelativeL2 };
-
 struct LossValue {
   double loss;               // Σ scale · loss over the finite elements
   std::uint32_t non_finite;  // elements dropped
@@ -18,16 +16,14 @@ struct LossValue {
 
 class Loss {
  public:
-  Loss(cl::Context& ctx, LossKind kind);
+  explicit Loss(cl::Context& ctx);
   // grad[i] = scale · dL/dpred[i] for i < n; enqueues only (no sync), accumulating into the running value.
-  void evaluate(const cl::Buffer<float>& pred, const cl::Buffer<float>& target, std::size_t n, float scale,
+  void evaluate(const cl::Buffer<float>& pred, const cl::Buffer<float>& target, std::size_t n, float scale, float power,
                 cl::Buffer<float>& grad);
   // Reads and resets the accumulated value (a sync point: call it only when the value is needed).
   LossValue take();
-  LossKind kind() const { return kind_; }
 
  private:
-  LossKind kind_;
   cl::Buffer<float> total_;
   cl::Buffer<std::uint32_t> non_finite_;
   cl::Kernel kernel_;

@@ -26,6 +26,7 @@ void TrainConfig::validate() const {
   require(minutes >= 0 && std::isfinite(minutes), "minutes", minutes, ">= 0");
   require(anneal_start >= 0 && anneal_start <= 1, "anneal_start", anneal_start, "in [0, 1]");
   require(anneal_final > 0 && anneal_final <= 1, "anneal_final", anneal_final, "in (0, 1]");
+  require(relative_fade_end >= 0 && relative_fade_end <= 1, "relative_fade_end", relative_fade_end, "in [0, 1]");
   require(log_every >= 1, "log_every", log_every, ">= 1");
   require(checkpoint_every >= 1, "checkpoint_every", checkpoint_every, ">= 1");
   require(network.is_object(), "network", network, "an object");
@@ -34,6 +35,12 @@ void TrainConfig::validate() const {
 double TrainConfig::learning_rate_scale(double progress) const {
   if (progress <= anneal_start || anneal_start >= 1) return 1.0;
   return std::pow(anneal_final, (std::min(progress, 1.0) - anneal_start) / (1.0 - anneal_start));
+}
+
+double TrainConfig::relative_power(double progress) const {
+  if (residual == "l2") return 0.0;
+  if (relative_fade_end <= 0) return 1.0;
+  return std::max(0.0, 1.0 - progress / relative_fade_end);
 }
 
 TrainConfig parse_train_config(const nlohmann::json& j, const TrainConfig& base) {

@@ -11,7 +11,7 @@ namespace clr::radiosity {
 
 struct TrainConfig {
   std::string method = "nr";          // "nr" (vanilla Neural Radiosity); ISNR is not implemented yet
-  std::string residual = "relative";  // "relative": r²/(sg(L)²+0.01); "l2": r² (paper Eq. 10)
+  std::string residual = "relative";  // "relative": r²/(sg(L)²+0.01)^power (below); "l2": r² (paper Eq. 10)
   int samples = 4;                    // N incident directions per point
   int batch = 0;                      // M points per step; 0 = chosen for the device
   long steps = 0;                     // stop after this many steps in total (0 = no step limit)
@@ -22,6 +22,12 @@ struct TrainConfig {
   // end. A noisy Monte Carlo target needs it: at a constant rate the fit keeps the noise of the last steps.
   double anneal_start = 0.5;
   double anneal_final = 0.05;
+  // The relative residual's denominator power falls linearly from 1 to 0 (plain L2) by the fraction
+  // `relative_fade_end` of the budget, as the NR authors' code can; 0 keeps it at 1. The relative residual fits
+  // dark regions early, but it barely resists a solution scaled up as a whole (its pull is 2r/L²) and the
+  // emitters that anchor the scale are found rarely: on Veach Ajar it ran away to a white image. Plain L2 at the
+  // end pulls the scale back (README: "Training time against accuracy").
+  double relative_fade_end = 0.8;
   long log_every = 25;  // rows of log.csv
   long checkpoint_every = 500;
   // Overrides of the N-Module's settings (encoder, MLP, Adam, gemm backend) as a JSON merge patch over the
@@ -31,12 +37,16 @@ struct TrainConfig {
   // The factor on the learning rate once `progress` ∈ [0, 1] of the budget is spent.
   double learning_rate_scale(double progress) const;
 
+  // The power of the residual's denominator once `progress` of the budget is spent (0 for plain L2).
+  double relative_power(double progress) const;
+
   // Throws InputError naming the first impossible setting (e.g. "samples must be ≥ 1, got 0").
   void validate() const;
 };
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, residual, samples, batch, steps, minutes, seed,
-                                                anneal_start, anneal_final, log_every, checkpoint_every, network)
+                                                anneal_start, anneal_final, relative_fade_end, log_every,
+                                                checkpoint_every, network)
 
 // Applies the keys of `j` over `base`. An unknown key or a value of the wrong type is an InputError naming the
 // key (a misspelt key must not be silently ignored); the result is validated.

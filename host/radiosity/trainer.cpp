@@ -74,7 +74,7 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
       sampler_(geometry.scene()),
       config_(std::move(config)),
       run_dir_(std::move(run_dir)),
-      loss_(ctx, config_.residual == "l2" ? nn::LossKind::L2 : nn::LossKind::RelativeL2),
+      loss_(ctx),
       non_finite_(ctx, 1),
       rhs_kernel_(ctx.program({"radiosity.cl"}).kernel("incident_rhs")) {
   const fs::path model = run_dir_ / "model.clr";
@@ -101,8 +101,9 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
     network_ = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config_.network));
     fs::create_directories(run_dir_);
     write_text_atomically(run_dir_ / "config.json", nlohmann::json(config_).dump(2) + "\n");
-    write_text_atomically(run_dir_ / "log.csv", "step,seconds,loss,lookups,non_finite,learning_rate\n");
+    write_text_atomically(run_dir_ / "log.csv", "step,seconds,loss,lookups,non_finite,learning_rate,residual_power\n");
   }
+  residual_power_ = float(config_.relative_power(0.0));
   batch_settings_.points = std::size_t(config_.batch);
   batch_settings_.samples = std::size_t(config_.samples);
   non_finite_.fill(0u);
@@ -126,7 +127,7 @@ StepStats Trainer::step() {
       .launch(M);
   network_->forward_train(point_rows_, M, train_ctx_);
   // Mean over points and channels, so the learning rate does not depend on the batch size.
-  loss_.evaluate(train_ctx_.output(), rhs_, M * 3, 1.0f / float(M * 3), d_output_);
+  loss_.evaluate(train_ctx_.output(), rhs_, M * 3, 1.0f / float(M * 3), residual_power_, d_output_);
   network_->backward(train_ctx_, d_output_);
   network_->adam_step();
   StepStats stats;
@@ -168,6 +169,7 @@ void Trainer::run() {
     if (fraction >= 1.0) break;
     const double lr_scale = config_.learning_rate_scale(fraction);
     network_->set_learning_rate_scale(float(lr_scale));
+    residual_power_ = float(config_.relative_power(fraction));
     lookups += step().lookups;
     ++loss_steps;
     const long now = long(network_->steps());
@@ -175,9 +177,10 @@ void Trainer::run() {
       const nn::LossValue v = loss_.take();
       loss_sum = v.loss / double(loss_steps);
       char row[256];
-      std::snprintf(row, sizeof row, "%ld,%.3f,%.6g,%.3f,%u,%.6g", now, seconds_before_ + elapsed(), loss_sum,
+      std::snprintf(row, sizeof row, "%ld,%.3f,%.6g,%.3f,%u,%.6g,%.4g", now, seconds_before_ + elapsed(), loss_sum,
                     double(lookups) / double(loss_steps * config_.batch * config_.samples), v.non_finite,
-                    lr_scale * double(network_->config().adam.learning_rate_at(std::uint64_t(now))));
+                    lr_scale * double(network_->config().adam.learning_rate_at(std::uint64_t(now))),
+                    double(residual_power_));
       append_log(row);
       char detail[128];
       std::snprintf(detail, sizeof detail, "step %ld  loss %.4g  %.2f steps/s", now, loss_sum,

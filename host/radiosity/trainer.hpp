@@ -50,6 +50,7 @@ class Trainer {
   std::filesystem::path run_dir_;
   std::unique_ptr<nn::Network> network_;
   nn::Loss loss_;
+  float residual_power_ = 1;  // TrainConfig::relative_power, updated by run() as the budget is spent
   BatchSettings batch_settings_;
   TrainingBatch batch_;
   nn::NetworkContext train_ctx_;

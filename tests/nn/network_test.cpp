@@ -143,9 +143,9 @@ class CheckpointTest : public ClTest {
   // One training step on a fixed batch with the relative L2 loss against a fixed target.
   void step(nn::Network& net, const cl::Buffer<float>& raw, const cl::Buffer<float>& target, std::size_t rows,
             nn::NetworkContext& c, cl::Buffer<float>& grad) {
-    nn::Loss loss(ctx(), nn::LossKind::RelativeL2);
+    nn::Loss loss(ctx());
     net.forward_train(raw, rows, c);
-    loss.evaluate(c.output(), target, rows * 3, 1.0f / float(rows * 3), grad);
+    loss.evaluate(c.output(), target, rows * 3, 1.0f / float(rows * 3), 1.0f, grad);
     net.backward(c, grad);
     net.adam_step();
   }
@@ -281,14 +281,14 @@ TEST_F(ClTest, HashGridMlpFitsAKnownField) {
   const std::size_t B = 1024;
   std::vector<float> raw, target;
   cl::Buffer<float> draw(ctx(), B * nn::kRawInputs), dt(ctx(), B * 3), grad(ctx(), B * 3);
-  nn::Loss loss(ctx(), nn::LossKind::L2);
+  nn::Loss loss(ctx());
   nn::NetworkContext c;
   for (int s = 0; s < 600; ++s) {
     batch(B, raw, target);
     draw.write(raw);
     dt.write(target);
     net.forward_train(draw, B, c);
-    loss.evaluate(c.output(), dt, B * 3, 1.0f / float(B * 3), grad);
+    loss.evaluate(c.output(), dt, B * 3, 1.0f / float(B * 3), 0.0f, grad);
     net.backward(c, grad);
     net.adam_step();
   }

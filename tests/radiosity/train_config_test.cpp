@@ -62,6 +62,20 @@ TEST(TrainConfig, LearningRateAnnealsGeometricallyOverTheBudget) {
   EXPECT_THAT(error_of({{"anneal_start", 1.5}}), HasSubstr("anneal_start"));
 }
 
+TEST(TrainConfig, RelativeResidualFadesToL2OverTheBudget) {
+  TrainConfig c;
+  c.relative_fade_end = 0.8;
+  EXPECT_EQ(c.relative_power(0.0), 1.0);
+  EXPECT_NEAR(c.relative_power(0.4), 0.5, 1e-12);
+  EXPECT_EQ(c.relative_power(0.8), 0.0);
+  EXPECT_EQ(c.relative_power(1.5), 0.0) << "past the fade the residual stays plain L2";
+  c.relative_fade_end = 0.0;
+  EXPECT_EQ(c.relative_power(0.9), 1.0) << "relative_fade_end 0 keeps the relative residual";
+  c.residual = "l2";
+  EXPECT_EQ(c.relative_power(0.0), 0.0);
+  EXPECT_THAT(error_of({{"relative_fade_end", -0.1}}), HasSubstr("relative_fade_end"));
+}
+
 TEST(TrainConfig, FileErrorsNameTheFile) {
   const auto path = std::filesystem::temp_directory_path() / "clr_bad_config.json";
   std::ofstream(path) << "{ \"samples\": 4,";
