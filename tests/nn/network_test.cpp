@@ -135,8 +135,9 @@ TEST_F(ClTest, NetworkGradientsMatchFiniteDifferences) {
 
 class CheckpointTest : public ClTest {
  protected:
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("clr_ckpt_" + std::to_string(::getpid()));
+  void TearDown() override { std::filesystem::remove_all(dir); }
   std::string path(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() / ("clr_ckpt_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     return (dir / name).string();
   }
