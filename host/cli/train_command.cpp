@@ -32,7 +32,7 @@ Command add_train_command(CLI::App& app) {
   cmd->add_option("--seed", opt->seed, "Random seed");
   cmd->add_option("--learning-rate", opt->learning_rate, "Adam learning rate (default 5e-3, ISNR §4.3)");
   cmd->add_option("--residual", opt->residual,
-                  "relative (default; fades to l2 over the first 80 % of the budget, see relative_fade_end) or l2")
+                  "relative (default; fades to l2 by the end of the budget, see relative_fade_end) or l2")
       ->check(CLI::IsMember({"relative", "l2"}));
   cmd->add_option("--gemm", opt->gemm, "Matrix-product backend: auto (timed probe, cached), own, clblast")
       ->check(CLI::IsMember({"auto", "own", "clblast"}));
