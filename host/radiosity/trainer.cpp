@@ -39,8 +39,10 @@ std::string read_text(const fs::path& path) {
 
 int default_batch(const cl::DeviceInfo& device) { return device.type == "gpu" ? 16384 : 4096; }
 
+std::size_t default_width(const cl::DeviceInfo& device) { return device.type == "gpu" ? 512 : 256; }
+
 nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
-                                          const TrainConfig& config) {
+                                          const TrainConfig& config, const cl::DeviceInfo& device) {
   // The hash grid covers the bounding box of the modelled surfaces, padded a little so points on its faces
   // are interior to the grid.
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
@@ -59,6 +61,7 @@ nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, co
   lo -= pad;
   hi += pad;
   nn::NetworkConfig base = nn::n_module_config({lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z});
+  base.width = default_width(device);
   // A scene whose modelled surfaces all share one albedo gains nothing from it as an input.
   base.encoder.albedo = albedos.size() > 1;
   base.seed = config.seed;
@@ -97,7 +100,7 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
     if (fs::exists(run_dir_) && !fs::is_empty(run_dir_))
       throw InputError("run directory " + run_dir_.string() + " is not empty (use --resume to continue it)");
     if (config_.batch == 0) config_.batch = default_batch(ctx.device());
-    config_.network = nn::to_json(radiance_network_config(geometry, sampler_, config_));
+    config_.network = nn::to_json(radiance_network_config(geometry, sampler_, config_, ctx.device()));
     network_ = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config_.network));
     fs::create_directories(run_dir_);
     write_text_atomically(run_dir_ / "config.json", nlohmann::json(config_).dump(2) + "\n");

@@ -13,10 +13,10 @@
 
 namespace clr::radiosity {
 
-// The N-Module for a scene: the paper's architecture with the scene's bounding box, inputs the scene needs
-// (albedo only when it varies), and the user's `network` overrides on top.
+// The N-Module for a scene: the paper's architecture with the device's width (default_width), the scene's
+// bounding box, inputs the scene needs (albedo only when it varies), and the user's `network` overrides on top.
 nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
-                                          const TrainConfig& config);
+                                          const TrainConfig& config, const cl::DeviceInfo& device);
 
 struct StepStats {
   double loss = 0;          // mean residual loss over the batch
@@ -62,7 +62,14 @@ class Trainer {
 };
 
 // The default batch for a device: GPUs take the paper-sized batch, CPU devices a smaller one so a step stays
-// interactive (the step cost is dominated by the 512-wide GEMMs, DESIGN.md §6).
+// interactive (the step cost is dominated by the MLP's GEMMs, DESIGN.md §6).
 int default_batch(const cl::DeviceInfo& device);
+
+// The N-Module's hidden width for a device: the paper's 512 on GPUs; 256 on CPU devices, where the 512-wide GEMMs
+// are ~80 % of a step. Per unit of time, width 256 takes 3.2× the steps and, on the shared Cornell box with a
+// 10-minute budget on a 2-core CPU, reached MAPE 0.085 / 0.092 (seeds 1 / 2) where 512 reached 0.109 / 0.106:
+// the error is the Monte Carlo noise of rare emitter hits, which more steps average down, not a lack of capacity
+// (the hash grid carries the detail; width 128 did as well as 256). README: "Training time against accuracy".
+std::size_t default_width(const cl::DeviceInfo& device);
 
 }  // namespace clr::radiosity
