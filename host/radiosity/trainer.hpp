@@ -66,10 +66,10 @@ class Trainer {
 int default_batch(const cl::DeviceInfo& device);
 
 // The N-Module's hidden width for a device: the paper's 512 on GPUs; 256 on CPU devices, where the 512-wide GEMMs
-// are ~80 % of a step. Per unit of time, width 256 takes 3.2× the steps and, on the shared Cornell box with a
-// 10-minute budget on a 2-core CPU, reached MAPE 0.085 / 0.092 (seeds 1 / 2) where 512 reached 0.109 / 0.106:
-// the error is the Monte Carlo noise of rare emitter hits, which more steps average down, not a lack of capacity
-// (the hash grid carries the detail; width 128 did as well as 256). README: "Training time against accuracy".
+// are ~80 % of a step. Width 256 takes 3.2× the steps per unit of time, and at minutes-long budgets the error is
+// the Monte Carlo noise of rare emitter hits, which more steps average down (the hash grid carries the detail):
+// on a 2-core CPU the shared Cornell box reached MAPE 0.069–0.084 in 10 minutes (three seeds) against 0.099–0.109
+// at 512, and both Veach scenes improved as much. README: "Training time against accuracy".
 std::size_t default_width(const cl::DeviceInfo& device);
 
 }  // namespace clr::radiosity
