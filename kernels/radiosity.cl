@@ -1,13 +1,15 @@
 // The right-hand side of the rendering-equation residual (DESIGN.md §2) for M points with N incident samples each:
-//   rhs[m] = (1/N) Σ_n (E[m,n] + w[m,n] · L[lookup[m,n]])
-// w = f·cos/p̃ times the throughput of any delta chain the sample passed (RGB); E = the emission (or environment)
-// the sample met, already weighted the same way, so emission part-way along a chain is exact; L = N-Module
+//   rhs[m] = (1/N) Σ_n (E[m,n] + w[m,n] · L[lookup[m,n]]) / p̃[m,n]
+// w = f·cos times the throughput of any delta chain the sample passed (RGB); E = the emission (or environment)
+// the sample met, already weighted the same way, so emission part-way along a chain is exact; p̃ = the density the
+// direction was drawn with (for a delta lobe, whose weight already holds its discrete probability, the share of
+// samples that take the BSDF); L = N-Module
 // radiance at the samples that end on a modelled surface (lookup = row in L, or -1 where none). The network is
 // evaluated on the compacted rows only, so samples that need no lookup cost nothing there. Non-finite terms are dropped
 // and counted.
-__kernel void incident_rhs(__global const float* weight, __global const float* emitted, __global const int* lookup,
-                           __global const float* radiance, unsigned int points, unsigned int samples,
-                           __global float* rhs, volatile __global unsigned int* non_finite) {
+__kernel void incident_rhs(__global const float* weight, __global const float* emitted, __global const float* pdf,
+                           __global const int* lookup, __global const float* radiance, unsigned int points,
+                           unsigned int samples, __global float* rhs, volatile __global unsigned int* non_finite) {
   const size_t m = get_global_id(0);
   if (m >= points) return;
   float3 sum = (float3)(0.0f);
@@ -16,6 +18,7 @@ __kernel void incident_rhs(__global const float* weight, __global const float* e
     float3 term = vload3(s, emitted);
     const int row = lookup[s];
     if (row >= 0) term += vload3(s, weight) * vload3((size_t)row, radiance);
+    term /= pdf[s];
     if (isfinite(term.x) && isfinite(term.y) && isfinite(term.z))
       sum += term;
     else

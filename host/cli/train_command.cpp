@@ -1,5 +1,5 @@
-// clradiosity train SCENE.xml [--method nr] [--samples N] [--batch M] [--steps S | --minutes T] [--seed K]
-//                  [--config FILE.json] [--resume] -o RUN_DIR
+// clradiosity train SCENE.xml [--method isnr|nr] [--is-loss ikl|kl] [--bsdf-fraction C] [--samples N] [--batch M]
+//                  [--steps S | --minutes T] [--seed K] [--config FILE.json] [--resume] -o RUN_DIR
 #include <iostream>
 
 #include "cl/context.hpp"
@@ -13,10 +13,10 @@ namespace clr::cli {
 
 Command add_train_command(CLI::App& app) {
   struct Options {
-    std::string scene, run_dir, config_file, device, method, residual, gemm;
+    std::string scene, run_dir, config_file, device, method, is_loss, residual, gemm;
     int samples = 0, batch = 0;
     long steps = 0;
-    double minutes = 0, learning_rate = 0;
+    double minutes = 0, learning_rate = 0, bsdf_fraction = 0, guide_learning_rate = 0;
     std::uint64_t seed = 0;
     bool resume = false;
   };
@@ -24,7 +24,15 @@ Command add_train_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("train", "Train a Neural Radiosity model of a scene into RUN_DIR");
   cmd->add_option("scene", opt->scene, "Mitsuba scene (XML)")->required();
   cmd->add_option("-o,--output", opt->run_dir, "Run directory (config.json, log.csv, model.clr)")->required();
-  cmd->add_option("--method", opt->method, "nr (vanilla Neural Radiosity)")->check(CLI::IsMember({"nr"}));
+  cmd->add_option("--method", opt->method,
+                  "isnr (default: importance sampling by the jointly trained I-Module) or nr (BSDF sampling only)")
+      ->check(CLI::IsMember({"isnr", "nr"}));
+  cmd->add_option("--is-loss", opt->is_loss, "The I-Module's loss: ikl (Improved KL, default) or kl")
+      ->check(CLI::IsMember({"ikl", "kl"}));
+  cmd->add_option("--bsdf-fraction", opt->bsdf_fraction,
+                  "Share of incident directions drawn from the BSDF, the rest from the I-Module (isnr; default 0.5)");
+  cmd->add_option("--guide-learning-rate", opt->guide_learning_rate,
+                  "The I-Module's Adam learning rate (default 5e-3)");
   cmd->add_option("--samples", opt->samples, "Incident directions per point (N, default 4)");
   cmd->add_option("--batch", opt->batch, "Points per step (M; default chosen for the device)");
   auto* steps = cmd->add_option("--steps", opt->steps, "Stop after this many steps (in total, when resuming)");
@@ -45,6 +53,7 @@ Command add_train_command(CLI::App& app) {
             if (!opt->config_file.empty()) config = radiosity::load_train_config(opt->config_file);
             if (!opt->method.empty()) config.method = opt->method;
             if (!opt->residual.empty()) config.residual = opt->residual;
+            if (!opt->is_loss.empty()) config.is_loss = opt->is_loss;
             // Flags given on the command line override the config file, whatever their value (validate() judges).
             const auto given = [&](const char* flag) { return cmd->count(flag) > 0; };
             if (given("--samples")) config.samples = opt->samples;
@@ -53,6 +62,8 @@ Command add_train_command(CLI::App& app) {
             if (given("--minutes")) config.minutes = opt->minutes;
             if (given("--seed")) config.seed = opt->seed;
             if (given("--learning-rate")) config.network["adam"]["learning_rate"] = opt->learning_rate;
+            if (given("--bsdf-fraction")) config.bsdf_fraction = opt->bsdf_fraction;
+            if (given("--guide-learning-rate")) config.guide["adam"]["learning_rate"] = opt->guide_learning_rate;
             if (!opt->gemm.empty()) config.network["gemm"] = opt->gemm;
             config.validate();
             if (config.steps == 0 && config.minutes == 0) throw InputError("give a budget: --steps S or --minutes T");
@@ -61,9 +72,13 @@ Command add_train_command(CLI::App& app) {
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
             radiosity::Trainer trainer(ctx, geometry, config, opt->run_dir, opt->resume);
-            std::cerr << "train: " << opt->scene << " on " << ctx.device().describe() << ", batch "
-                      << trainer.config().batch << " × " << trainer.config().samples << " samples, "
-                      << trainer.network().parameter_count() << " parameters\n";
+            std::cerr << "train: " << opt->scene << " on " << ctx.device().describe() << ", " << trainer.config().method
+                      << ", batch " << trainer.config().batch << " × " << trainer.config().samples << " samples, "
+                      << trainer.network().parameter_count() << " parameters";
+            if (auto* guide = trainer.guide())
+              std::cerr << " + I-Module " << guide->parameter_count() << " (" << trainer.config().is_loss
+                        << ", BSDF share " << trainer.config().bsdf_fraction << ")";
+            std::cerr << "\n";
             trainer.run();
             std::cout << "model: " << opt->run_dir << "/model.clr (" << trainer.steps_done() << " steps)\n";
             return 0;

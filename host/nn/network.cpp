@@ -69,6 +69,11 @@ NetworkConfig i_module_config(const std::array<float, 3>& lo, const std::array<f
   c.encoder.grid->bbox_hi = hi;
   c.encoder.albedo = false;
   c.encoder.roughness = true;
+  // A coarser, smaller grid than the N-Module's (12 levels, 2^18): the incident light's directional
+  // distribution varies more slowly over the surfaces than radiance does, and the I-Module must stay a small
+  // share of a step. 8 levels reach 16 · 1.5^7 ≈ 273 cells across the scene.
+  c.encoder.grid->levels = 8;
+  c.encoder.grid->log2_table = 16;
   c.width = 64;
   c.hidden_layers = 3;
   c.outputs = 32;
@@ -221,20 +226,28 @@ void Network::adam_step() {
   encoder_.adam_step();
 }
 
+void Network::add_tensors(Checkpoint& c, const std::string& prefix) const {
+  c.tensors.emplace_back(prefix + "mlp.params", mlp_.params().read());
+  c.tensors.emplace_back(prefix + "mlp.adam.m", adam_.first_moment().read());
+  c.tensors.emplace_back(prefix + "mlp.adam.v", adam_.second_moment().read());
+  if (const HashGrid* g = encoder_.grid()) {
+    c.tensors.emplace_back(prefix + "grid.table", g->params().read());
+    c.tensors.emplace_back(prefix + "grid.adam.m", g->adam().first_moment().read());
+    c.tensors.emplace_back(prefix + "grid.adam.v", g->adam().second_moment().read());
+  }
+}
+
 void Network::save(const std::string& path, const std::string& rng_state) const {
+  write_checkpoint(path, checkpoint(rng_state));
+}
+
+Checkpoint Network::checkpoint(const std::string& rng_state) const {
   Checkpoint c;
   c.config_json = to_json(config_).dump();
   c.step = adam_.steps();
   c.rng_state = rng_state;
-  c.tensors.emplace_back("mlp.params", mlp_.params().read());
-  c.tensors.emplace_back("mlp.adam.m", adam_.first_moment().read());
-  c.tensors.emplace_back("mlp.adam.v", adam_.second_moment().read());
-  if (const HashGrid* g = encoder_.grid()) {
-    c.tensors.emplace_back("grid.table", g->params().read());
-    c.tensors.emplace_back("grid.adam.m", g->adam().first_moment().read());
-    c.tensors.emplace_back("grid.adam.v", g->adam().second_moment().read());
-  }
-  write_checkpoint(path, c);
+  add_tensors(c, "");
+  return c;
 }
 
 std::string Network::load(const std::string& path) {
@@ -256,20 +269,24 @@ std::string Network::load(const std::string& path) {
     throw InputError("checkpoint " + path + ": written for a different network config (first difference at " + where +
                      ")");
   }
-  mlp_.params().write(c.tensor(path, "mlp.params", mlp_.params().size()));
-  adam_.first_moment().write(c.tensor(path, "mlp.adam.m", adam_.first_moment().size()));
-  adam_.second_moment().write(c.tensor(path, "mlp.adam.v", adam_.second_moment().size()));
+  restore(c, path, "");
+  return c.rng_state;
+}
+
+void Network::restore(const Checkpoint& c, const std::string& path, const std::string& prefix) {
+  mlp_.params().write(c.tensor(path, prefix + "mlp.params", mlp_.params().size()));
+  adam_.first_moment().write(c.tensor(path, prefix + "mlp.adam.m", adam_.first_moment().size()));
+  adam_.second_moment().write(c.tensor(path, prefix + "mlp.adam.v", adam_.second_moment().size()));
   mlp_.grads().fill(0.0f);
   adam_.set_steps(c.step);
   if (HashGrid* g = encoder_.grid()) {
-    g->params().write(c.tensor(path, "grid.table", g->params().size()));
-    g->adam().first_moment().write(c.tensor(path, "grid.adam.m", g->params().size()));
-    g->adam().second_moment().write(c.tensor(path, "grid.adam.v", g->params().size()));
+    g->params().write(c.tensor(path, prefix + "grid.table", g->params().size()));
+    g->adam().first_moment().write(c.tensor(path, prefix + "grid.adam.m", g->params().size()));
+    g->adam().second_moment().write(c.tensor(path, prefix + "grid.adam.v", g->params().size()));
     g->clear_gradient();
     g->touched().fill(std::uint8_t(0));
     g->adam().set_steps(c.step);
   }
-  return c.rng_state;
 }
 
 }  // namespace clr::nn

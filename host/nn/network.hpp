@@ -12,6 +12,7 @@
 #include "cl/buffer.hpp"
 #include "cl/context.hpp"
 #include "nn/adam.hpp"
+#include "nn/checkpoint.hpp"
 #include "nn/encoder.hpp"
 #include "nn/gemm.hpp"
 #include "nn/mlp.hpp"
@@ -32,7 +33,7 @@ struct NetworkConfig {
 
 // ISNR §4.3: N-Module = hash grid + SH(ω_o) + SH(n) + albedo → 4 × 512 ReLU → 3, abs (non-negative radiance).
 NetworkConfig n_module_config(const std::array<float, 3>& bbox_lo, const std::array<float, 3>& bbox_hi);
-// I-Module = hash grid + SH(ω_o) + SH(n) + roughness → 3 × 64 ReLU → 32 raw outputs (8 vMF lobes).
+// I-Module = hash grid (8 levels, 2^16) + SH(ω_o) + SH(n) + roughness → 3 × 64 ReLU → 32 raw outputs (8 vMF lobes).
 NetworkConfig i_module_config(const std::array<float, 3>& bbox_lo, const std::array<float, 3>& bbox_hi);
 
 nlohmann::json to_json(const NetworkConfig& c);
@@ -68,9 +69,15 @@ class Network {
 
   // Checkpoint (nn/checkpoint.hpp): config, parameters, optimiser state, step and the trainer's RNG state.
   void save(const std::string& path, const std::string& rng_state = "") const;
+  Checkpoint checkpoint(const std::string& rng_state = "") const;
+  // Parameters and optimiser state as tensors named `prefix` + "mlp.params" etc., so that a second network (the
+  // I-Module) can travel in the same checkpoint file as the first.
+  void add_tensors(Checkpoint& c, const std::string& prefix) const;
   // Restores parameters and optimiser state; returns the saved RNG state. A file written for a different
   // config, or damaged, throws InputError naming the file and the problem.
   std::string load(const std::string& path);
+  // The tensors add_tensors wrote under `prefix` (sizes checked; InputError naming `path` otherwise) and the step.
+  void restore(const Checkpoint& c, const std::string& path, const std::string& prefix);
 
  private:
   cl::Context* ctx_;

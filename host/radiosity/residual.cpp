@@ -25,11 +25,11 @@ ResidualStats measure_residual(cl::Context& ctx, const geometry::Geometry& geome
     cl::Buffer<float> point_rows(ctx, std::span<const float>(batch.point_rows));
     cl::Buffer<float> incident_rows(ctx, std::span<const float>(batch.incident_rows));
     cl::Buffer<float> weight(ctx, std::span<const float>(batch.weight)),
-        emitted(ctx, std::span<const float>(batch.emitted));
+        emitted(ctx, std::span<const float>(batch.emitted)), pdf(ctx, std::span<const float>(batch.pdf));
     cl::Buffer<int> lookup(ctx, std::span<const int>(batch.lookup));
     cl::Buffer<float> incident(ctx, std::max<std::size_t>(1, K) * 3), rhs(ctx, M * 3), pred(ctx, M * 3);
     if (K) network.infer(incident_rows, K, incident);
-    rhs_kernel.args(weight, emitted, lookup, incident, unsigned(M), unsigned(samples), rhs, non_finite).launch(M);
+    rhs_kernel.args(weight, emitted, pdf, lookup, incident, unsigned(M), unsigned(samples), rhs, non_finite).launch(M);
     network.infer(point_rows, M, pred);
     const auto p = pred.read(), r = rhs.read();
     for (std::size_t m = 0; m < M; ++m) {

@@ -18,7 +18,10 @@ void require(bool ok, const char* name, const T& value, const char* rule) {
 }  // namespace
 
 void TrainConfig::validate() const {
-  require(method == "nr", "method", method, "nr (isnr is not implemented yet)");
+  require(method == "isnr" || method == "nr", "method", method, "isnr or nr");
+  require(is_loss == "ikl" || is_loss == "kl", "is_loss", is_loss, "ikl or kl");
+  // c = 0 would never draw a delta lobe (its share of p̃ is c): the estimate would lose that light.
+  require(bsdf_fraction > 0 && bsdf_fraction <= 1, "bsdf_fraction", bsdf_fraction, "in (0, 1]");
   require(residual == "relative" || residual == "l2", "residual", residual, "relative or l2");
   require(samples >= 1 && samples <= 1024, "samples", samples, "in [1, 1024]");
   require(batch >= 0 && batch <= (1 << 22), "batch", batch, "in [1, 4194304] (0 = automatic)");
@@ -30,6 +33,7 @@ void TrainConfig::validate() const {
   require(log_every >= 1, "log_every", log_every, ">= 1");
   require(checkpoint_every >= 1, "checkpoint_every", checkpoint_every, ">= 1");
   require(network.is_object(), "network", network, "an object");
+  require(guide.is_object(), "guide", guide, "an object");
 }
 
 double TrainConfig::learning_rate_scale(double progress) const {

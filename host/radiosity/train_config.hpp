@@ -10,7 +10,11 @@
 namespace clr::radiosity {
 
 struct TrainConfig {
-  std::string method = "nr";          // "nr" (vanilla Neural Radiosity); ISNR is not implemented yet
+  // "isnr": the N-Module trained with directions from the one-sample mixture of the BSDF and the jointly trained
+  // I-Module (ISNR §4); "nr": BSDF sampling only (vanilla Neural Radiosity, the "w/o I-Module" ablation).
+  std::string method = "isnr";
+  std::string is_loss = "ikl";  // the I-Module's loss: "ikl" (Improved KL, Eq. 18/20) or "kl" (Eq. 17)
+  double bsdf_fraction = 0.5;  // c in p̃ = c·p_bsdf + (1 − c)·q (isnr); the defensive share keeps variance bounded
   std::string residual = "relative";  // "relative": r²/(sg(L)²+0.01)^power (below); "l2": r² (paper Eq. 10)
   int samples = 4;                    // N incident directions per point
   int batch = 0;                      // M points per step; 0 = chosen for the device
@@ -34,6 +38,10 @@ struct TrainConfig {
   // Overrides of the N-Module's settings (encoder, MLP, Adam, gemm backend) as a JSON merge patch over the
   // scene's defaults; a run's config.json stores the complete result.
   nlohmann::json network = nlohmann::json::object();
+  // The same for the I-Module (isnr), over nn::i_module_config; its Adam learning rate is guide.adam.learning_rate.
+  nlohmann::json guide = nlohmann::json::object();
+
+  bool guided() const { return method == "isnr"; }
 
   // The factor on the learning rate once `progress` ∈ [0, 1] of the budget is spent.
   double learning_rate_scale(double progress) const;
@@ -45,9 +53,9 @@ struct TrainConfig {
   void validate() const;
 };
 
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, residual, samples, batch, steps, minutes, seed,
-                                                anneal_start, anneal_final, relative_fade_end, log_every,
-                                                checkpoint_every, network)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, is_loss, bsdf_fraction, residual, samples, batch,
+                                                steps, minutes, seed, anneal_start, anneal_final, relative_fade_end,
+                                                log_every, checkpoint_every, network, guide)
 
 // Applies the keys of `j` over `base`. An unknown key or a value of the wrong type is an InputError naming the
 // key (a misspelt key must not be silently ignored); the result is validated.

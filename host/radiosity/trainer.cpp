@@ -12,11 +12,15 @@
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "common/stop_signal.hpp"
+#include "nn/checkpoint.hpp"
 #include "radiosity/trained_model.hpp"
 
 namespace clr::radiosity {
 namespace fs = std::filesystem;
 namespace {
+
+constexpr const char* kLogHeader = "step,seconds,loss,lookups,non_finite,learning_rate,residual_power";
+constexpr const char* kGuideLogColumns = ",guide_loss,guided_share";  // isnr runs only
 
 // Grow-only device buffers: re-created only when a step needs more elements than before.
 template <typename T>
@@ -41,16 +45,26 @@ int default_batch(const cl::DeviceInfo& device) { return device.type == "gpu" ? 
 
 std::size_t default_width(const cl::DeviceInfo& device) { return device.type == "gpu" ? 512 : 256; }
 
-nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
-                                          const TrainConfig& config, const cl::DeviceInfo& device) {
+namespace {
+
+// What the networks' inputs need to know of a scene: the box the hash grids cover, and whether albedo and
+// roughness vary over the modelled surfaces (an input that is the same everywhere carries nothing).
+struct SceneInputs {
+  std::array<float, 3> lo, hi;
+  bool albedo_varies, roughness_varies;
+};
+
+SceneInputs scene_inputs(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler) {
   // The hash grid covers the bounding box of the modelled surfaces, padded a little so points on its faces
   // are interior to the grid.
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
   std::set<std::array<float, 3>> albedos;
+  std::set<float> roughness;
   for (const auto& s : sampler.sample(0x5eed, 4096)) {
     lo = glm::min(lo, s.point.position);
     hi = glm::max(hi, s.point.position);
     albedos.insert({s.albedo.x, s.albedo.y, s.albedo.z});
+    roughness.insert(s.roughness);
   }
   for (const auto& shape : geometry.scene().shapes)
     for (const auto& v : shape.mesh.positions) {
@@ -60,14 +74,34 @@ nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, co
   const glm::vec3 pad = 1e-3f * (hi - lo) + 1e-6f;
   lo -= pad;
   hi += pad;
-  nn::NetworkConfig base = nn::n_module_config({lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z});
-  base.width = default_width(device);
-  // A scene whose modelled surfaces all share one albedo gains nothing from it as an input.
-  base.encoder.albedo = albedos.size() > 1;
-  base.seed = config.seed;
+  return {{lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z}, albedos.size() > 1, roughness.size() > 1};
+}
+
+nn::NetworkConfig patched(const nn::NetworkConfig& base, const nlohmann::json& patch) {
   nlohmann::json j = nn::to_json(base);
-  j.merge_patch(config.network);
+  j.merge_patch(patch);
   return nn::network_config_from_json(j);
+}
+
+}  // namespace
+
+nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
+                                          const TrainConfig& config, const cl::DeviceInfo& device) {
+  const SceneInputs in = scene_inputs(geometry, sampler);
+  nn::NetworkConfig base = nn::n_module_config(in.lo, in.hi);
+  base.width = default_width(device);
+  base.encoder.albedo = in.albedo_varies;
+  base.seed = config.seed;
+  return patched(base, config.network);
+}
+
+nn::NetworkConfig guide_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
+                                       const TrainConfig& config) {
+  const SceneInputs in = scene_inputs(geometry, sampler);
+  nn::NetworkConfig base = nn::i_module_config(in.lo, in.hi);
+  base.encoder.roughness = in.roughness_varies;
+  base.seed = config.seed + 1;  // apart from the N-Module's initial parameters
+  return patched(base, config.guide);
 }
 
 Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConfig config, fs::path run_dir,
@@ -83,12 +117,19 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
   const fs::path model = run_dir_ / "model.clr";
   if (resume) {
     if (!fs::exists(model)) throw InputError("--resume: no checkpoint " + model.string());
-    // The run's own settings win; only the stopping rule comes from this invocation.
-    TrainConfig saved = parse_train_config(nlohmann::json::parse(read_text(run_dir_ / "config.json")));
+    // The run's own settings win; only the stopping rule comes from this invocation. A run written before ISNR
+    // existed has no `method` in its config.json: it was vanilla NR.
+    nlohmann::json saved_json = nlohmann::json::parse(read_text(run_dir_ / "config.json"));
+    if (!saved_json.contains("method")) saved_json["method"] = "nr";
+    TrainConfig saved = parse_train_config(saved_json);
     saved.steps = config_.steps;
     saved.minutes = config_.minutes;
     config_ = saved;
     network_ = load_network(ctx, model);
+    if (config_.guided()) {
+      guide_ = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config_.guide));
+      guide_->restore(nn::read_checkpoint(model.string()), model.string(), "guide.");
+    }
     // The log's last row carries the training time so far, so resumed rows continue its time axis.
     std::istringstream log(read_text(run_dir_ / "log.csv"));
     std::string line, last;
@@ -102,44 +143,88 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
     if (config_.batch == 0) config_.batch = default_batch(ctx.device());
     config_.network = nn::to_json(radiance_network_config(geometry, sampler_, config_, ctx.device()));
     network_ = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config_.network));
+    if (config_.guided()) {
+      config_.guide = nn::to_json(guide_network_config(geometry, sampler_, config_));
+      guide_ = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config_.guide));
+    }
     fs::create_directories(run_dir_);
     write_text_atomically(run_dir_ / "config.json", nlohmann::json(config_).dump(2) + "\n");
-    write_text_atomically(run_dir_ / "log.csv", "step,seconds,loss,lookups,non_finite,learning_rate,residual_power\n");
+    write_text_atomically(run_dir_ / "log.csv", std::string(kLogHeader) + (guide_ ? kGuideLogColumns : "") + "\n");
+  }
+  if (guide_) {
+    if (guide_->outputs() != nn::kVmfRaw)
+      throw InputError("guide: the I-Module must have " + std::to_string(nn::kVmfRaw) + " outputs (8 lobes × 4)");
+    vmf_.emplace(ctx);
   }
   residual_power_ = float(config_.relative_power(0.0));
   batch_settings_.points = std::size_t(config_.batch);
   batch_settings_.samples = std::size_t(config_.samples);
+  batch_settings_.bsdf_fraction = guide_ ? float(config_.bsdf_fraction) : 1.0f;
   non_finite_.fill(0u);
 }
 
 StepStats Trainer::step() {
-  build_training_batch(*geometry_, sampler_, batch_settings_, config_.seed, network_->steps(), batch_);
-  const std::size_t M = batch_.points, N = batch_.samples, K = batch_.lookups();
+  const std::uint64_t step = network_->steps();
+  sample_training_points(sampler_, geometry_->scene(), batch_settings_, config_.seed, step, batch_);
+  const std::size_t M = batch_.points, N = batch_.samples;
   upload(*ctx_, point_rows_, batch_.point_rows);
+  if (guide_) {
+    // The I-Module's lobes at the points (activations kept for its backward), and a direction from them for every
+    // sample; the host uses those of the samples that pick the guide.
+    guide_->forward_train(point_rows_, M, guide_ctx_);
+    guide_uniforms(M, N, config_.seed, step, uniforms_host_);
+    upload(*ctx_, uniforms_, uniforms_host_);
+    reserve(*ctx_, guided_, M * N * 3);
+    vmf_->sample(guide_ctx_.output(), uniforms_, M, N, guided_);
+    guided_host_.resize(M * N * 3);
+    guided_.read(std::span<float>(guided_host_));
+  }
+  sample_incident(*geometry_, batch_settings_, config_.seed, step, guided_host_, batch_);
+  const std::size_t K = batch_.lookups();
   upload(*ctx_, incident_rows_, batch_.incident_rows);
   upload(*ctx_, weight_, batch_.weight);
   upload(*ctx_, emitted_, batch_.emitted);
   upload(*ctx_, lookup_, batch_.lookup);
+  if (guide_) {
+    upload(*ctx_, directions_, batch_.directions);
+    upload(*ctx_, bsdf_pdf_, batch_.bsdf_pdf);
+    reserve(*ctx_, pdf_, M * N);
+    reserve(*ctx_, q_, M * N);
+    vmf_->mixture_pdf(guide_ctx_.output(), directions_, bsdf_pdf_, M, N, batch_settings_.bsdf_fraction, pdf_, q_);
+  } else {
+    upload(*ctx_, pdf_, batch_.pdf);
+  }
   reserve(*ctx_, incident_radiance_, std::max<std::size_t>(1, K) * 3);
   reserve(*ctx_, rhs_, M * 3);
   reserve(*ctx_, d_output_, M * 3);
 
   // sg(L_α) at the incident hits: inference only, no activations kept.
   if (K) network_->infer(incident_rows_, K, incident_radiance_);
-  rhs_kernel_.args(weight_, emitted_, lookup_, incident_radiance_, unsigned(M), unsigned(N), rhs_, non_finite_)
+  rhs_kernel_.args(weight_, emitted_, pdf_, lookup_, incident_radiance_, unsigned(M), unsigned(N), rhs_, non_finite_)
       .launch(M);
   network_->forward_train(point_rows_, M, train_ctx_);
   // Mean over points and channels, so the learning rate does not depend on the batch size.
   loss_.evaluate(train_ctx_.output(), rhs_, M * 3, 1.0f / float(M * 3), residual_power_, d_output_);
   network_->backward(train_ctx_, d_output_);
   network_->adam_step();
+  if (guide_) {
+    // The I-Module learns from the same samples and the N-Module's radiance before its update (sg(L_α)).
+    reserve(*ctx_, d_lobes_, M * nn::kVmfRaw);
+    const nn::GuideSamples samples{directions_, bsdf_pdf_, pdf_, weight_, emitted_, lookup_, incident_radiance_};
+    vmf_->loss(guide_ctx_.output(), samples, M, N, config_.is_loss == "ikl", d_lobes_);
+    guide_->backward(guide_ctx_, d_lobes_);
+    guide_->adam_step();
+  }
   StepStats stats;
   stats.lookups = K;
+  stats.guided = batch_.guided;
   return stats;
 }
 
 void Trainer::save_checkpoint() const {
-  network_->save((run_dir_ / "model.clr").string(), std::to_string(config_.seed));
+  nn::Checkpoint c = network_->checkpoint(std::to_string(config_.seed));
+  if (guide_) guide_->add_tensors(c, "guide.");
+  nn::write_checkpoint((run_dir_ / "model.clr").string(), c);
 }
 
 void Trainer::append_log(const std::string& line) const {
@@ -158,7 +243,7 @@ void Trainer::run() {
   Progress progress("train", total);
   double loss_sum = 0;
   long loss_steps = 0;
-  std::size_t lookups = 0;
+  std::size_t lookups = 0, guided = 0;
   std::string last;
   // The spent fraction of whichever budget ends the run first.
   const auto spent = [&] {
@@ -172,25 +257,36 @@ void Trainer::run() {
     if (fraction >= 1.0) break;
     const double lr_scale = config_.learning_rate_scale(fraction);
     network_->set_learning_rate_scale(float(lr_scale));
+    if (guide_) guide_->set_learning_rate_scale(float(lr_scale));
     residual_power_ = float(config_.relative_power(fraction));
-    lookups += step().lookups;
+    const StepStats stats = step();
+    lookups += stats.lookups;
+    guided += stats.guided;
     ++loss_steps;
     const long now = long(network_->steps());
     if (now % config_.log_every == 0) {
       const nn::LossValue v = loss_.take();
+      const nn::LossValue g = guide_ ? vmf_->take() : nn::LossValue{0, 0};
       loss_sum = v.loss / double(loss_steps);
       char row[256];
       std::snprintf(row, sizeof row, "%ld,%.3f,%.6g,%.3f,%u,%.6g,%.4g", now, seconds_before_ + elapsed(), loss_sum,
-                    double(lookups) / double(loss_steps * config_.batch * config_.samples), v.non_finite,
+                    double(lookups) / double(loss_steps * config_.batch * config_.samples), v.non_finite + g.non_finite,
                     lr_scale * double(network_->config().adam.learning_rate_at(std::uint64_t(now))),
                     double(residual_power_));
-      append_log(row);
+      std::string line = row;
+      if (guide_) {
+        std::snprintf(row, sizeof row, ",%.6g,%.4f", g.loss / double(loss_steps),
+                      double(guided) / double(loss_steps * config_.batch * config_.samples));
+        line += row;
+      }
+      append_log(line);
       char detail[128];
       std::snprintf(detail, sizeof detail, "step %ld  loss %.4g  %.2f steps/s", now, loss_sum,
                     double(now - first_step) / std::max(1e-9, elapsed()));
       last = detail;
       loss_steps = 0;
       lookups = 0;
+      guided = 0;
     }
     if (now % config_.checkpoint_every == 0) save_checkpoint();
     progress.update(config_.steps > 0 ? double(now) : elapsed(), last);

@@ -1,13 +1,17 @@
 #pragma once
-// Neural Radiosity training (DESIGN.md §2, method `nr`): each step draws a TrainingBatch on the host, evaluates
-// sg(L_α) at the incident hits on the device, forms the right-hand side, and takes an Adam step on the residual.
+// Neural Radiosity training (DESIGN.md §2). Each step draws a TrainingBatch on the host, evaluates sg(L_α) at the
+// incident hits on the device, forms the right-hand side, and takes an Adam step on the residual. With method
+// `isnr` the I-Module gives 8 vMF lobes per point first, a share of the incident directions is drawn from them
+// on the device, and after the N-Module's step the I-Module takes its own on the KL / IKL gradient (sg both ways).
 // A run lives in RUN_DIR: config.json (settings), log.csv (one row per log interval), model.clr (checkpoint).
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "cl/context.hpp"
 #include "nn/loss.hpp"
 #include "nn/network.hpp"
+#include "nn/vmf_mixture.hpp"
 #include "radiosity/train_config.hpp"
 #include "radiosity/training_batch.hpp"
 
@@ -17,11 +21,16 @@ namespace clr::radiosity {
 // bounding box, inputs the scene needs (albedo only when it varies), and the user's `network` overrides on top.
 nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
                                           const TrainConfig& config, const cl::DeviceInfo& device);
+// The I-Module for a scene: nn::i_module_config over its bounding box, roughness only where it varies, and the
+// user's `guide` overrides on top.
+nn::NetworkConfig guide_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
+                                       const TrainConfig& config);
 
 struct StepStats {
   double loss = 0;          // mean residual loss over the batch
   std::size_t lookups = 0;  // incident samples that needed the network
   std::uint32_t non_finite = 0;
+  std::size_t guided = 0;  // incident samples drawn from the I-Module's mixture
 };
 
 class Trainer {
@@ -39,6 +48,7 @@ class Trainer {
   std::uint64_t steps_done() const { return network_->steps(); }
   const TrainConfig& config() const { return config_; }
   nn::Network& network() { return *network_; }
+  nn::Network* guide() { return guide_.get(); }  // null for method nr
 
  private:
   void append_log(const std::string& line) const;
@@ -55,9 +65,16 @@ class Trainer {
   TrainingBatch batch_;
   nn::NetworkContext train_ctx_;
   cl::Buffer<float> point_rows_, incident_rows_, weight_, emitted_, incident_radiance_, rhs_, d_output_;
+  cl::Buffer<float> pdf_;
   cl::Buffer<int> lookup_;
   cl::Buffer<std::uint32_t> non_finite_;
   cl::Kernel rhs_kernel_;
+  // The I-Module and what its step needs (method isnr only).
+  std::unique_ptr<nn::Network> guide_;
+  std::optional<nn::VmfMixture> vmf_;
+  nn::NetworkContext guide_ctx_;
+  std::vector<float> uniforms_host_, guided_host_;
+  cl::Buffer<float> uniforms_, guided_, directions_, bsdf_pdf_, q_, d_lobes_;
   double seconds_before_ = 0;  // training time of earlier sessions of a resumed run
 };
 

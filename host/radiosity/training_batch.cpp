@@ -7,48 +7,92 @@
 namespace clr::radiosity {
 namespace {
 
-// Distinct RNG streams for the two uses of one (seed, step): surface points, and the per-point direction streams.
+// Distinct RNG streams for the uses of one (seed, step): surface points, the per-point direction streams, and the
+// uniforms of the guided directions.
 std::uint64_t stream_id(std::uint64_t seed, std::uint64_t step, std::uint64_t use) {
   return (seed * 0x9E3779B97F4A7C15ull) ^ (step * 0xBF58476D1CE4E5B9ull) ^ (use * 0x94D049BB133111EBull);
 }
 
 }  // namespace
 
-void build_training_batch(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
-                          const BatchSettings& settings, std::uint64_t seed, std::uint64_t step, TrainingBatch& batch) {
-  const scene::Scene& scene = geometry.scene();
-  const std::size_t M = settings.points, N = settings.samples, R = nn::kRawInputs;
+void sample_training_points(const geometry::SurfaceSampler& sampler, const scene::Scene& scene,
+                            const BatchSettings& settings, std::uint64_t seed, std::uint64_t step,
+                            TrainingBatch& batch) {
+  const std::size_t M = settings.points, R = nn::kRawInputs;
   batch.points = M;
-  batch.samples = N;
+  batch.samples = settings.samples;
+  batch.surface.resize(M);
+  batch.wo.resize(M);
   batch.point_rows.resize(M * R);
+  sampler.sample(stream_id(seed, step, 0), batch.surface);
+  parallel_for(M, 256, [&](std::size_t first, std::size_t last) {
+    for (std::size_t m = first; m < last; ++m) {
+      Pcg32 rng(m, stream_id(seed, step, 1));
+      const auto& x = batch.surface[m];
+      // ω_o uniform over the directions the surface can scatter into: the whole sphere for two-sided BSDFs,
+      // the hemisphere above the shading normal for one-sided ones (their black side is never queried).
+      Vec3 wo = scene::sample_uniform_sphere({rng.next_float(), rng.next_float()});
+      if (!x.point.bsdf(scene).bsdf->two_sided() && glm::dot(wo, x.point.frame.n) < 0.0f)
+        wo -= 2.0f * glm::dot(wo, x.point.frame.n) * x.point.frame.n;
+      batch.wo[m] = wo;
+      write_raw_row(scene, x.point, wo, &batch.point_rows[m * R]);
+    }
+  });
+}
+
+void sample_incident(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed,
+                     std::uint64_t step, std::span<const float> guided, TrainingBatch& batch) {
+  const scene::Scene& scene = geometry.scene();
+  const std::size_t M = batch.points, N = batch.samples, R = nn::kRawInputs;
+  const float c = settings.bsdf_fraction;
+  const bool guiding = c < 1.0f;
   batch.weight.assign(M * N * 3, 0.0f);
   batch.emitted.assign(M * N * 3, 0.0f);
+  batch.bsdf_pdf.assign(M * N, -1.0f);
   batch.lookup.assign(M * N, -1);
+  batch.directions.assign(guiding ? M * N * 3 : 0, 0.0f);
+  std::vector<std::uint8_t> from_guide(M * N, 0);
   // Every sample's would-be lookup row, compacted afterwards in sample order (deterministic).
   std::vector<float> candidate(M * N * R);
 
-  const auto points = sampler.sample(stream_id(seed, step, 0), M);
   parallel_for(M, 64, [&](std::size_t first, std::size_t last) {
     for (std::size_t m = first; m < last; ++m) {
+      // The stream continues where sample_training_points left it (two uniforms for ω_o), so NR batches are
+      // what they were before the split.
       Pcg32 rng(m, stream_id(seed, step, 1));
-      const auto& x = points[m];
-      // ω_o uniform over the directions the surface can scatter into: the whole sphere for two-sided BSDFs,
-      // the hemisphere above the shading normal for one-sided ones (their black side is never queried).
+      rng.next_float();
+      rng.next_float();
+      const auto& x = batch.surface[m];
+      const Vec3& wo = batch.wo[m];
       const scene::BsdfPoint bsdf = x.point.bsdf(scene);
-      Vec3 wo = scene::sample_uniform_sphere({rng.next_float(), rng.next_float()});
-      if (!bsdf.bsdf->two_sided() && glm::dot(wo, x.point.frame.n) < 0.0f)
-        wo -= 2.0f * glm::dot(wo, x.point.frame.n) * x.point.frame.n;
-      write_raw_row(scene, x.point, wo, &batch.point_rows[m * R]);
       for (std::size_t n = 0; n < N; ++n) {
         const std::size_t s = m * N + n;
-        const float u_lobe = rng.next_float();
-        const auto bs = bsdf.sample(wo, u_lobe, {rng.next_float(), rng.next_float()});
-        if (!bs) continue;
+        Vec3 wi;
+        Rgb fcos(0.0f);
+        bool delta = false;
+        if (guiding && rng.next_float() >= c) {
+          // A direction from q: the BSDF is evaluated there (its pdf joins p̃ on the device).
+          from_guide[s] = 1;
+          wi = Vec3(guided[3 * s], guided[3 * s + 1], guided[3 * s + 2]);
+          fcos = bsdf.eval(wo, wi);
+          batch.bsdf_pdf[s] = bsdf.pdf(wo, wi);
+        } else {
+          const float u_lobe = rng.next_float();
+          const auto bs = bsdf.sample(wo, u_lobe, {rng.next_float(), rng.next_float()});
+          if (!bs) continue;
+          wi = bs->wi;
+          delta = bs->delta;
+          // Undo the division by the pdf for a continuous lobe: p̃ replaces it. A delta lobe keeps its weight.
+          fcos = delta ? bs->weight : bs->weight * bs->pdf;
+          batch.bsdf_pdf[s] = delta ? -1.0f : bs->pdf;
+        }
+        if (guiding) std::copy_n(&wi.x, 3, &batch.directions[3 * s]);
+        if (fcos == Rgb(0.0f)) continue;
         const PathEnd path =
-            trace_to_surface(geometry, {x.point.spawn_origin(bs->wi), 0.0f, bs->wi}, rng, settings.max_delta_bounces);
-        for (int c = 0; c < 3; ++c) {
-          batch.weight[3 * s + c] = bs->weight[c] * path.throughput[c];
-          batch.emitted[3 * s + c] = bs->weight[c] * path.emitted[c];
+            trace_to_surface(geometry, {x.point.spawn_origin(wi), 0.0f, wi}, rng, settings.max_delta_bounces);
+        for (int ch = 0; ch < 3; ++ch) {
+          batch.weight[3 * s + ch] = fcos[ch] * path.throughput[ch];
+          batch.emitted[3 * s + ch] = fcos[ch] * path.emitted[ch];
         }
         if (path.at_surface) {
           write_raw_row(scene, path.point, path.wo, &candidate[s * R]);
@@ -58,12 +102,35 @@ void build_training_batch(const geometry::Geometry& geometry, const geometry::Su
     }
   });
 
+  batch.guided = std::size_t(std::count(from_guide.begin(), from_guide.end(), std::uint8_t(1)));
+  // Without a guide p̃ is the BSDF's own density (the discrete lobe probability is already in a delta weight).
+  batch.pdf.clear();
+  if (!guiding)
+    for (const float p : batch.bsdf_pdf) batch.pdf.push_back(p < 0.0f ? 1.0f : p);
+
   std::size_t rows = 0;
   for (std::size_t s = 0; s < M * N; ++s)
     if (batch.lookup[s] >= 0) batch.lookup[s] = int(rows++);
   batch.incident_rows.resize(rows * R);
   for (std::size_t s = 0; s < M * N; ++s)
     if (batch.lookup[s] >= 0) std::copy_n(&candidate[s * R], R, &batch.incident_rows[std::size_t(batch.lookup[s]) * R]);
+}
+
+void build_training_batch(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
+                          const BatchSettings& settings, std::uint64_t seed, std::uint64_t step, TrainingBatch& batch) {
+  sample_training_points(sampler, geometry.scene(), settings, seed, step, batch);
+  sample_incident(geometry, settings, seed, step, {}, batch);
+}
+
+void guide_uniforms(std::size_t points, std::size_t samples, std::uint64_t seed, std::uint64_t step,
+                    std::vector<float>& u) {
+  u.resize(points * samples * 3);
+  parallel_for(points, 256, [&](std::size_t first, std::size_t last) {
+    for (std::size_t m = first; m < last; ++m) {
+      Pcg32 rng(m, stream_id(seed, step, 2));
+      for (std::size_t i = 0; i < samples * 3; ++i) u[m * samples * 3 + i] = rng.next_float();
+    }
+  });
 }
 
 }  // namespace clr::radiosity

@@ -1,9 +1,12 @@
 #pragma once
-// The host half of one training step (DESIGN.md §2): M points (x, ω_o) drawn uniformly by area and direction on
-// the surfaces the network models, N incident directions each from the BSDF, traced through delta chains to the
-// next modelled surface. What the device needs comes out as flat arrays; the network is evaluated only on the
-// `incident` rows (compacted), never on rays that escaped or died.
+// The host half of one training step (DESIGN.md §2), built in two halves around the I-Module: first M points
+// (x, ω_o) drawn uniformly by area and direction on the surfaces the network models; then N incident directions
+// each — from the BSDF, or, with ISNR, from the one-sample mixture p̃ = c·p_bsdf + (1 − c)·q whose guided
+// directions the device drew — traced through delta chains to the next modelled surface. What the device needs
+// comes out as flat arrays; the network is evaluated only on the `incident` rows (compacted), never on rays that
+// escaped or died.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "geometry/surface_sampler.hpp"
@@ -13,11 +16,19 @@ namespace clr::radiosity {
 
 struct TrainingBatch {
   std::size_t points = 0, samples = 0;
-  std::vector<float> point_rows;     // points × kRawInputs: where L_α is trained
-  std::vector<float> incident_rows;  // lookups × kRawInputs: where sg(L_α) is read
-  std::vector<float> weight;         // points·samples × 3: f·cos/p times the delta chain's throughput
-  std::vector<float> emitted;        // points·samples × 3: f·cos/p times the emission met along the chain
-  std::vector<int> lookup;           // points·samples: row in incident_rows, or −1
+  std::vector<geometry::SurfaceSample> surface;  // points: where L_α is trained …
+  std::vector<Vec3> wo;                          // … and from which direction
+  std::vector<float> point_rows;                 // points × kRawInputs
+  std::vector<float> incident_rows;              // lookups × kRawInputs: where sg(L_α) is read
+  // Per sample (points·samples, × 3 for RGB and directions). A sample's RHS term is (emitted + weight·L) / pdf.
+  std::vector<float> weight;      // f·cos times the delta chain's throughput; not divided by any pdf, except for
+                                  // samples of a delta lobe, which hold the BSDF's weight (f / lobe probability)
+  std::vector<float> emitted;     // the emission met along the chain, weighted as `weight`
+  std::vector<float> bsdf_pdf;    // p_bsdf(ω_i); −1 marks a delta-lobe (or absorbed) sample: never guided
+  std::vector<float> pdf;         // p̃: filled here when nothing is guided (c = 1), else on the device
+  std::vector<float> directions;  // ω_i, world space; only with a guide (its pdf and loss need them)
+  std::vector<int> lookup;        // row in incident_rows, or −1
+  std::size_t guided = 0;         // samples whose direction came from q
 
   std::size_t lookups() const { return incident_rows.size() / nn::kRawInputs; }
 };
@@ -26,11 +37,26 @@ struct BatchSettings {
   std::size_t points = 4096;
   std::size_t samples = 4;
   int max_delta_bounces = 8;
+  float bsdf_fraction = 1.0f;  // c: the share of directions drawn from the BSDF; 1 = BSDF sampling only (NR)
 };
 
-// Fills `batch` for training step `step` of a run seeded with `seed`; sample streams depend only on
-// (seed, step, point index), so a batch is reproducible whatever the thread count.
+// The first half: points, directions ω_o and their raw input rows.
+void sample_training_points(const geometry::SurfaceSampler& sampler, const scene::Scene& scene,
+                            const BatchSettings& settings, std::uint64_t seed, std::uint64_t step,
+                            TrainingBatch& batch);
+
+// The second half: each sample takes the BSDF with probability c, else the direction guided[s] (3 floats per
+// sample, drawn from q on the device; empty when c = 1).
+void sample_incident(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed,
+                     std::uint64_t step, std::span<const float> guided, TrainingBatch& batch);
+
+// Both halves with BSDF sampling only. Sample streams depend only on (seed, step, point index), so a batch is
+// reproducible whatever the thread count.
 void build_training_batch(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
                           const BatchSettings& settings, std::uint64_t seed, std::uint64_t step, TrainingBatch& batch);
+
+// The three uniforms per sample that the device turns into guided directions (kernels/vmf.cl: vmf_sample).
+void guide_uniforms(std::size_t points, std::size_t samples, std::uint64_t seed, std::uint64_t step,
+                    std::vector<float>& u);
 
 }  // namespace clr::radiosity

@@ -15,11 +15,12 @@ TEST_F(ClTest, IncidentRhsMatchesDoubleTwin) {
   const unsigned M = 1037, N = 5;
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(0.0f, 2.0f);
-  std::vector<float> weight(M * N * 3), emitted(M * N * 3);
+  std::vector<float> weight(M * N * 3), emitted(M * N * 3), pdf(M * N);
   std::vector<int> lookup(M * N);
   std::vector<float> radiance;
   for (auto& v : weight) v = u(rng);
   for (auto& v : emitted) v = u(rng) < 0.3f ? u(rng) : 0.0f;
+  for (auto& v : pdf) v = 0.05f + u(rng);
   int rows = 0;
   for (auto& l : lookup) l = u(rng) < 1.4f ? rows++ : -1;  // 70 % of samples hit a surface the network evaluates
   radiance.resize(std::size_t(rows) * 3);
@@ -35,18 +36,18 @@ TEST_F(ClTest, IncidentRhsMatchesDoubleTwin) {
       for (int c = 0; c < 3; ++c) {
         double term = emitted[s * 3 + c];
         if (lookup[s] >= 0) term += double(weight[s * 3 + c]) * radiance[std::size_t(lookup[s]) * 3 + c];
-        twin[m * 3 + c] += term / N;
+        twin[m * 3 + c] += term / pdf[s] / N;
       }
     }
 
   cl::Buffer<float> w(ctx(), std::span<const float>(weight)), e(ctx(), std::span<const float>(emitted)),
-      r(ctx(), std::span<const float>(radiance));
+      r(ctx(), std::span<const float>(radiance)), p(ctx(), std::span<const float>(pdf));
   cl::Buffer<int> l(ctx(), std::span<const int>(lookup));
   auto out_host = with_canaries(M * 3);
   cl::Buffer<float> out(ctx(), std::span<const float>(out_host));
   cl::Buffer<unsigned> bad(ctx(), 1);
   bad.fill(0u);
-  ctx().program({"radiosity.cl"}).kernel("incident_rhs").args(w, e, l, r, M, N, out, bad).launch(M);
+  ctx().program({"radiosity.cl"}).kernel("incident_rhs").args(w, e, p, l, r, M, N, out, bad).launch(M);
   out.read(out_host);
   EXPECT_TRUE(canaries_intact(out_host, M * 3));
   EXPECT_TRUE(all_near(std::span<const float>(out_host.data(), M * 3), std::span<const double>(twin)));

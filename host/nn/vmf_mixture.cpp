@@ -1,0 +1,49 @@
+#include "nn/vmf_mixture.hpp"
+
+#include "nn/gemm.hpp"
+
+namespace clr::nn {
+
+VmfMixture::VmfMixture(cl::Context& ctx)
+    : total_(ctx, 1),
+      non_finite_(ctx, 1),
+      sample_(ctx.program({"atomics.cl", "vmf.cl", "guide.cl"}).kernel("vmf_sample")),
+      pdf_(ctx.program({"atomics.cl", "vmf.cl", "guide.cl"}).kernel("vmf_mixture_pdf")),
+      dlogq_(ctx.program({"atomics.cl", "vmf.cl", "guide.cl"}).kernel("vmf_dlogq")),
+      loss_(ctx.program({"atomics.cl", "vmf.cl", "guide.cl"}).kernel("guide_loss")) {
+  total_.fill(0.0f);
+  non_finite_.fill(0u);
+}
+
+void VmfMixture::sample(const cl::Buffer<float>& raw, const cl::Buffer<float>& u, std::size_t points,
+                        std::size_t samples, cl::Buffer<float>& dirs) {
+  sample_.args(raw, u, u32(points), u32(samples), dirs).launch(points * samples);
+}
+
+void VmfMixture::mixture_pdf(const cl::Buffer<float>& raw, const cl::Buffer<float>& dirs,
+                             const cl::Buffer<float>& bsdf_pdf, std::size_t points, std::size_t samples,
+                             float bsdf_fraction, cl::Buffer<float>& pdf, cl::Buffer<float>& q) {
+  pdf_.args(raw, dirs, bsdf_pdf, u32(points), u32(samples), bsdf_fraction, pdf, q).launch(points * samples);
+}
+
+void VmfMixture::dlogq(const cl::Buffer<float>& raw, const cl::Buffer<float>& dirs, std::size_t points,
+                       std::size_t samples, cl::Buffer<float>& out) {
+  dlogq_.args(raw, dirs, u32(points), u32(samples), out).launch(points * samples);
+}
+
+void VmfMixture::loss(const cl::Buffer<float>& raw, const GuideSamples& s, std::size_t points, std::size_t samples,
+                      bool improved, cl::Buffer<float>& d_raw) {
+  loss_
+      .args(u32(points), u32(samples), raw, s.dirs, s.bsdf_pdf, s.pdf, s.weight, s.emitted, s.lookup, s.radiance,
+            improved ? 1u : 0u, 1.0f / float(points), d_raw, total_, non_finite_)
+      .launch(points);
+}
+
+LossValue VmfMixture::take() {
+  LossValue v{double(total_.read()[0]), non_finite_.read()[0]};
+  total_.fill(0.0f);
+  non_finite_.fill(0u);
+  return v;
+}
+
+}  // namespace clr::nn

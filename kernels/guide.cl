@@ -1,0 +1,67 @@
+// The I-Module's loss and its gradient w.r.t. the raw lobe outputs (ISNR §4.1–4.2). Needs atomics.cl and vmf.cl.
+// For point m with N samples ω_n drawn from p̃ (the one-sample mixture), from the N-Module's own incident radiance:
+//   t_n = lum(f·cos·L_i(ω_n))   (emitted + weight·sg(L_α), the weights not divided by any pdf)
+//   F = (1/N) Σ t_n / p̃_n,  p_n = t_n / F  — the target density, estimated with the same samples
+//   KL  (Eq. 17): ∇ = −(1/N) Σ p_n/p̃_n ∇log q(ω_n)
+//   IKL (Eq. 20): each term times (2·1[p_n > q_n] − 1), the sign of log(p/q): the integrand's absolute value.
+// sg(L_α) and sg(p̃) hold by construction: only the raw outputs receive a gradient. Delta samples (bsdf_pdf < 0)
+// are not part of q's domain and are skipped. `scale` (1/M for a mean over points) multiplies the gradient and the
+// loss, Σ (1/N) p/p̃ · log(p/q) (or its absolute value), summed into `total`. Non-finite samples are dropped
+// and counted.
+inline float guide_luminance(float3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+inline float guide_target(size_t s, __global const float* weight, __global const float* emitted,
+                          __global const int* lookup, __global const float* radiance) {
+  float3 li = vload3(s, emitted);
+  const int row = lookup[s];
+  if (row >= 0) li += vload3(s, weight) * vload3((size_t)row, radiance);
+  return guide_luminance(li);
+}
+
+__kernel void guide_loss(uint points, uint samples, __global const float* raw, __global const float* dirs,
+                         __global const float* bsdf_pdf, __global const float* pdf, __global const float* weight,
+                         __global const float* emitted, __global const int* lookup, __global const float* radiance,
+                         uint improved, float scale, __global float* d_raw, volatile __global float* total,
+                         volatile __global uint* non_finite) {
+  const size_t m = get_global_id(0);
+  if (m >= points) return;
+  __global const float* rp = raw + m * VMF_RAW;
+  float grad[VMF_RAW];
+  for (int i = 0; i < VMF_RAW; ++i) grad[i] = 0.0f;
+
+  float f_sum = 0.0f;
+  uint bad = 0;
+  for (uint n = 0; n < samples; ++n) {
+    const size_t s = m * samples + n;
+    if (bsdf_pdf[s] < 0.0f) continue;
+    const float t = guide_target(s, weight, emitted, lookup, radiance) / pdf[s];
+    if (isfinite(t) && t >= 0.0f)
+      f_sum += t;
+    else
+      ++bad;
+  }
+  const float F = f_sum / (float)samples;
+  float loss = 0.0f;
+  // F = 0: no sample saw light, so the samples say nothing about where q should go.
+  if (F > 0.0f && isfinite(F)) {
+    const vmf_mixture mix = vmf_decode(rp);
+    for (uint n = 0; n < samples; ++n) {
+      const size_t s = m * samples + n;
+      if (bsdf_pdf[s] < 0.0f) continue;
+      const float p = guide_target(s, weight, emitted, lookup, radiance) / F;
+      const float w = p / pdf[s] / (float)samples;  // p / p̃, and the 1/N of the estimate
+      if (!(isfinite(w) && w > 0.0f)) continue;     // t = 0 adds nothing; non-finite t was counted above
+      float dlogq[VMF_RAW];
+      const float log_ratio = log(p) - vmf_dlogq_at(rp, &mix, vload3(s, dirs), dlogq);
+      const float sign = improved && !(log_ratio > 0.0f) ? -1.0f : 1.0f;
+      for (int i = 0; i < VMF_RAW; ++i) grad[i] -= scale * w * sign * dlogq[i];
+      loss += w * (improved ? fabs(log_ratio) : log_ratio);
+    }
+  }
+  bool finite = isfinite(loss);
+  for (int i = 0; i < VMF_RAW; ++i) finite = finite && isfinite(grad[i]);
+  if (!finite) ++bad;
+  for (int i = 0; i < VMF_RAW; ++i) d_raw[m * VMF_RAW + i] = finite ? grad[i] : 0.0f;
+  if (bad) atomic_add(non_finite, bad);
+  if (finite && loss != 0.0f) atomic_add_f32(total, scale * loss);
+}
