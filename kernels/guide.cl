@@ -18,14 +18,14 @@ inline float guide_target(size_t s, __global const float* weight, __global const
   return guide_luminance(li);
 }
 
-__kernel void guide_loss(uint points, uint samples, __global const float* raw, __global const float* dirs,
+__kernel void guide_loss(uint points, uint samples, __global const float* lobes, __global const float* dirs,
                          __global const float* bsdf_pdf, __global const float* pdf, __global const float* weight,
                          __global const float* emitted, __global const int* lookup, __global const float* radiance,
                          uint improved, float scale, __global float* d_raw, volatile __global float* total,
                          volatile __global uint* non_finite) {
   const size_t m = get_global_id(0);
   if (m >= points) return;
-  __global const float* rp = raw + m * VMF_RAW;
+  __global const float* lp = lobes + m * VMF_LOBES * VMF_LOBE_FLOATS;
   float grad[VMF_RAW];
   for (int i = 0; i < VMF_RAW; ++i) grad[i] = 0.0f;
 
@@ -44,7 +44,6 @@ __kernel void guide_loss(uint points, uint samples, __global const float* raw, _
   float loss = 0.0f;
   // F = 0: no sample saw light, so the samples say nothing about where q should go.
   if (F > 0.0f && isfinite(F)) {
-    const vmf_mixture mix = vmf_decode(rp);
     for (uint n = 0; n < samples; ++n) {
       const size_t s = m * samples + n;
       if (bsdf_pdf[s] < 0.0f) continue;
@@ -52,7 +51,7 @@ __kernel void guide_loss(uint points, uint samples, __global const float* raw, _
       const float w = p / pdf[s] / (float)samples;  // p / p̃, and the 1/N of the estimate
       if (!(isfinite(w) && w > 0.0f)) continue;     // t = 0 adds nothing; non-finite t was counted above
       float dlogq[VMF_RAW];
-      const float log_ratio = log(p) - vmf_dlogq_at(rp, &mix, vload3(s, dirs), dlogq);
+      const float log_ratio = log(p) - vmf_dlogq_at(lp, vload3(s, dirs), dlogq);
       const float sign = improved && !(log_ratio > 0.0f) ? -1.0f : 1.0f;
       for (int i = 0; i < VMF_RAW; ++i) grad[i] -= scale * w * sign * dlogq[i];
       loss += w * (improved ? fabs(log_ratio) : log_ratio);

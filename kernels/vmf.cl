@@ -4,8 +4,9 @@
 //   μ = (sin θ cos φ, sin θ sin φ, cos θ).
 // Angles, not a normalised 3-vector: four numbers a lobe is what fits the paper's 32 outputs for 8 lobes (a 3-vector
 // needs 40), and σ keeps them in range without a normalisation whose gradient blows up near the origin.
-// Everything is float32 and stable over κ ∈ [0, κ_max]: expm1/log1p forms, a series near κ = 0, log-sum-exp over
-// lobes (never a division by a q that may underflow). Host twin: tests/nn/vmf_twin.hpp.
+// Everything is float32 and stable over κ ∈ [κ_min, κ_max] = [1e-4, 1e4] (raw values outside the clamp, ±inf
+// included, land on its ends): expm1/log1p forms, a series where a derivative cancels, log-sum-exp over lobes (never
+// a division by a q that may underflow). Host twin: tests/nn/vmf_twin.hpp.
 #define VMF_LOBES 8
 #define VMF_RAW 32
 #define VMF_LOG_KAPPA_MIN (-9.2103404f)  // κ ≥ 1e-4
@@ -13,51 +14,73 @@
 #define VMF_LOG_4PI 2.5310242f
 #define VMF_PI 3.14159265358979f
 
-typedef struct {
-  float log_lambda[VMF_LOBES];
-  float kappa[VMF_LOBES];
-  float3 mu[VMF_LOBES];
-} vmf_mixture;
-
 inline float vmf_sigmoid(float x) { return 1.0f / (1.0f + exp(-x)); }
 
-inline float3 vmf_mean_direction(float c, float d) {
-  const float theta = VMF_PI * vmf_sigmoid(c), phi = 2.0f * VMF_PI * vmf_sigmoid(d);
-  const float st = sin(theta);
-  return (float3)(st * cos(phi), st * sin(phi), cos(theta));
+// log of the normalisation κ / (2π (1 − e^{−2κ})) = log(−2κ / expm1(−2κ)) − log 4π. With expm1 the ratio stays
+// exact to float rounding down to κ_min = 1e-4 (the clamp keeps κ = 0 and 0/0 out), where it is 1 + κ.
+inline float vmf_log_norm(float kappa) { return log(-2.0f * kappa / expm1(-2.0f * kappa)) - VMF_LOG_4PI; }
+
+// κ ∂log norm/∂κ + κ = 1 − 2κ / expm1(2κ) (κ ∂log v/∂κ = κ(μ·ω − 1) + this); series κ − κ²/3 + κ⁴/45 below 0.05,
+// where the closed form cancels.
+inline float vmf_dlognorm_dlogkappa(float kappa) {
+  if (kappa < 0.05f) return kappa - kappa * kappa / 3.0f + kappa * kappa * kappa * kappa / 45.0f;
+  return 1.0f - 2.0f * kappa / expm1(2.0f * kappa);
 }
 
-inline vmf_mixture vmf_decode(__global const float* raw) {
-  vmf_mixture m;
-  float amax = raw[0];
-  for (int k = 1; k < VMF_LOBES; ++k) amax = fmax(amax, raw[4 * k]);
+// A point's lobes are decoded once per step (all the transcendental work of the activations) into VMF_LOBE_FLOATS
+// floats a lobe, so that sampling, evaluating and differentiating at many directions reads them:
+#define VMF_LOBE_FLOATS 16
+#define VMF_L_LOGC 0     // log λ + log norm(κ): log(λ v(ω)) = LOGC + κ (μ·ω − 1)
+#define VMF_L_KAPPA 1    // κ
+#define VMF_L_MU 2       // μ (3)
+#define VMF_L_LAMBDA 5   // λ
+#define VMF_L_DKAPPA 6   // 1 − 2κ/expm1(2κ)
+#define VMF_L_FREE 7     // 1 where b is inside the clamp of log κ, 0 where the clamp holds it (no gradient)
+#define VMF_L_DMU_DC 8   // κ ∂μ/∂c = κ ∂μ/∂θ · π σ'(c)  (3)
+#define VMF_L_DMU_DD 11  // κ ∂μ/∂d = κ ∂μ/∂φ · 2π σ'(d) (3)
+
+__kernel void vmf_decode(__global const float* raw, uint points, __global float* lobes) {
+  const size_t m = get_global_id(0);
+  if (m >= points) return;
+  __global const float* r = raw + m * VMF_RAW;
+  float amax = r[0];
+  for (int k = 1; k < VMF_LOBES; ++k) amax = fmax(amax, r[4 * k]);
   float sum = 0.0f;
-  for (int k = 0; k < VMF_LOBES; ++k) sum += exp(raw[4 * k] - amax);
+  for (int k = 0; k < VMF_LOBES; ++k) sum += exp(r[4 * k] - amax);
   const float lse = amax + log(sum);
   for (int k = 0; k < VMF_LOBES; ++k) {
-    m.log_lambda[k] = raw[4 * k] - lse;
-    m.kappa[k] = exp(clamp(raw[4 * k + 1], VMF_LOG_KAPPA_MIN, VMF_LOG_KAPPA_MAX));
-    m.mu[k] = vmf_mean_direction(raw[4 * k + 2], raw[4 * k + 3]);
+    __global float* l = lobes + (m * VMF_LOBES + k) * VMF_LOBE_FLOATS;
+    const float b = r[4 * k + 1];
+    const float kappa = exp(clamp(b, VMF_LOG_KAPPA_MIN, VMF_LOG_KAPPA_MAX));
+    const float sc = vmf_sigmoid(r[4 * k + 2]), sd = vmf_sigmoid(r[4 * k + 3]);
+    float ct, cp;
+    const float st = sincos(VMF_PI * sc, &ct), sp = sincos(2.0f * VMF_PI * sd, &cp);
+    const float log_lambda = r[4 * k] - lse;
+    l[VMF_L_LOGC] = log_lambda + vmf_log_norm(kappa);
+    l[VMF_L_KAPPA] = kappa;
+    vstore3((float3)(st * cp, st * sp, ct), 0, l + VMF_L_MU);
+    l[VMF_L_LAMBDA] = exp(log_lambda);
+    l[VMF_L_DKAPPA] = vmf_dlognorm_dlogkappa(kappa);
+    l[VMF_L_FREE] = b > VMF_LOG_KAPPA_MIN && b < VMF_LOG_KAPPA_MAX ? 1.0f : 0.0f;
+    vstore3(kappa * VMF_PI * sc * (1.0f - sc) * (float3)(ct * cp, ct * sp, -st), 0, l + VMF_L_DMU_DC);
+    vstore3(kappa * 2.0f * VMF_PI * sd * (1.0f - sd) * (float3)(-st * sp, st * cp, 0.0f), 0, l + VMF_L_DMU_DD);
+    l[14] = l[15] = 0.0f;
   }
-  return m;
 }
 
-// log of the normalisation κ / (2π (1 − e^{−2κ})) = log(−2κ / expm1(−2κ)) − log 4π; → −log 4π as κ → 0.
-inline float vmf_log_norm(float kappa) {
-  if (kappa < 1e-6f) return kappa - VMF_LOG_4PI;  // log(1 + κ + O(κ²))
-  return log(-2.0f * kappa / expm1(-2.0f * kappa)) - VMF_LOG_4PI;
+// μ·ω − 1 = −|μ − ω|²/2 for unit vectors: exact where it matters, near the mean of a sharp lobe, where 1 − μ·ω
+// rounds to a multiple of 2⁻²⁴ (κ = 1e4 then loses 1e-4 of the lobe's mass).
+inline float vmf_cos_minus_one(float3 mu, float3 w) {
+  const float3 d = mu - w;
+  return -0.5f * dot(d, d);
 }
 
-// log v(ω) = log norm + κ (μ·ω − 1): the exponent is ≤ 0, so nothing overflows at κ_max.
-inline float vmf_log_pdf(float kappa, float3 mu, float3 w) {
-  return vmf_log_norm(kappa) + kappa * (fmin(dot(mu, w), 1.0f) - 1.0f);
-}
-
-// log q(ω) of the mixture, and each lobe's log(λ_k v_k(ω)) into terms.
-inline float vmf_mixture_log_pdf(const vmf_mixture* m, float3 w, float* terms) {
+// log(λ_k v_k(ω)) for every lobe of a point into terms, and log q(ω) (log-sum-exp: q may underflow, its log not).
+inline float vmf_mixture_log_pdf(__global const float* lobes, float3 w, float* terms) {
   float tmax = -INFINITY;
   for (int k = 0; k < VMF_LOBES; ++k) {
-    terms[k] = m->log_lambda[k] + vmf_log_pdf(m->kappa[k], m->mu[k], w);
+    __global const float* l = lobes + k * VMF_LOBE_FLOATS;
+    terms[k] = l[VMF_L_LOGC] + l[VMF_L_KAPPA] * vmf_cos_minus_one(vload3(0, l + VMF_L_MU), w);
     tmax = fmax(tmax, terms[k]);
   }
   float sum = 0.0f;
@@ -75,10 +98,9 @@ inline void vmf_basis(float3 n, float3* t, float3* b) {
 }
 
 // A direction from one lobe: r = cos θ − 1 = log1p(u1 · expm1(−2κ)) / κ inverts the CDF of cos θ without
-// cancellation near the mean (−2·u1 as κ → 0); sin θ = sqrt(−r (r + 2)).
+// cancellation near the mean (it tends to −2·u1 as κ → 0, accurate at κ_min); sin θ = sqrt(−r (r + 2)).
 inline float3 vmf_sample_lobe(float kappa, float3 mu, float u1, float u2) {
-  float r = kappa < 1e-6f ? -2.0f * u1 : log1p(u1 * expm1(-2.0f * kappa)) / kappa;
-  r = clamp(r, -2.0f, 0.0f);
+  const float r = clamp(log1p(u1 * expm1(-2.0f * kappa)) / kappa, -2.0f, 0.0f);
   const float st = sqrt(fmax(0.0f, -r * (r + 2.0f)));
   const float phi = 2.0f * VMF_PI * u2;
   float3 t, b;
@@ -87,22 +109,23 @@ inline float3 vmf_sample_lobe(float kappa, float3 mu, float u1, float u2) {
 }
 
 // One direction per (point, sample) from the point's mixture: u[3s] picks the lobe, u[3s+1], u[3s+2] place it.
-__kernel void vmf_sample(__global const float* raw, __global const float* u, uint points, uint samples,
+__kernel void vmf_sample(__global const float* lobes, __global const float* u, uint points, uint samples,
                          __global float* dirs) {
   const size_t s = get_global_id(0);
   if (s >= (size_t)points * samples) return;
-  const vmf_mixture m = vmf_decode(raw + (s / samples) * VMF_RAW);
+  __global const float* l = lobes + (s / samples) * VMF_LOBES * VMF_LOBE_FLOATS;
   const float u0 = u[3 * s];
   int k = 0;
-  float cdf = exp(m.log_lambda[0]);
-  while (k < VMF_LOBES - 1 && u0 >= cdf) cdf += exp(m.log_lambda[++k]);
-  vstore3(vmf_sample_lobe(m.kappa[k], m.mu[k], u[3 * s + 1], u[3 * s + 2]), s, dirs);
+  float cdf = l[VMF_L_LAMBDA];
+  while (k < VMF_LOBES - 1 && u0 >= cdf) cdf += l[++k * VMF_LOBE_FLOATS + VMF_L_LAMBDA];
+  l += k * VMF_LOBE_FLOATS;
+  vstore3(vmf_sample_lobe(l[VMF_L_KAPPA], vload3(0, l + VMF_L_MU), u[3 * s + 1], u[3 * s + 2]), s, dirs);
 }
 
 // The one-sample mixture density each sample was drawn with (DESIGN.md §2): p̃ = c·p_bsdf + (1 − c)·q(ω), and
 // q(ω) itself. bsdf_pdf < 0 marks a sample of a delta lobe: never guided, drawn with probability c (its weight
 // already holds the lobe's discrete probability), so p̃ = c and q = 0 there.
-__kernel void vmf_mixture_pdf(__global const float* raw, __global const float* dirs, __global const float* bsdf_pdf,
+__kernel void vmf_mixture_pdf(__global const float* lobes, __global const float* dirs, __global const float* bsdf_pdf,
                               uint points, uint samples, float bsdf_fraction, __global float* pdf, __global float* q) {
   const size_t s = get_global_id(0);
   if (s >= (size_t)points * samples) return;
@@ -111,52 +134,37 @@ __kernel void vmf_mixture_pdf(__global const float* raw, __global const float* d
     q[s] = 0.0f;
     return;
   }
-  const vmf_mixture m = vmf_decode(raw + (s / samples) * VMF_RAW);
   float terms[VMF_LOBES];
-  const float qs = exp(vmf_mixture_log_pdf(&m, vload3(s, dirs), terms));
+  const float qs =
+      exp(vmf_mixture_log_pdf(lobes + (s / samples) * VMF_LOBES * VMF_LOBE_FLOATS, vload3(s, dirs), terms));
   q[s] = qs;
   pdf[s] = bsdf_fraction * bsdf_pdf[s] + (1.0f - bsdf_fraction) * qs;
-}
-
-// 1 − κ coth κ + κ = 1 − 2κ / expm1(2κ), the κ-derivative part of κ ∂log v/∂κ that does not involve ω;
-// series κ − κ²/3 + κ⁴/45 below 0.05, where the closed form cancels.
-inline float vmf_dlognorm_dlogkappa(float kappa) {
-  if (kappa < 0.05f) return kappa - kappa * kappa / 3.0f + kappa * kappa * kappa * kappa / 45.0f;
-  return 1.0f - 2.0f * kappa / expm1(2.0f * kappa);
 }
 
 // ∂log q(ω)/∂raw for one point's 32 raw outputs, through the responsibilities r_k = λ_k v_k / q (log-sum-exp):
 //   ∂/∂a_j = r_j − λ_j;  ∂/∂b_j = r_j (κ_j (μ_j·ω − 1) + 1 − 2κ_j/expm1(2κ_j)) inside the clamp, 0 outside;
 //   ∂/∂c_j = r_j κ_j (ω·∂μ/∂θ) π σ'(c_j);  ∂/∂d_j = r_j κ_j (ω·∂μ/∂φ) 2π σ'(d_j).
 // Writes it to grad[0..31] and returns log q(ω).
-inline float vmf_dlogq_at(__global const float* raw, const vmf_mixture* m, float3 w, float* grad) {
+inline float vmf_dlogq_at(__global const float* lobes, float3 w, float* grad) {
   float terms[VMF_LOBES];
-  const float lq = vmf_mixture_log_pdf(m, w, terms);
+  const float lq = vmf_mixture_log_pdf(lobes, w, terms);
   for (int k = 0; k < VMF_LOBES; ++k) {
-    const float r = exp(terms[k] - lq), kappa = m->kappa[k];
-    grad[4 * k] = r - exp(m->log_lambda[k]);
-    const float b = raw[4 * k + 1];
-    const bool inside = b > VMF_LOG_KAPPA_MIN && b < VMF_LOG_KAPPA_MAX;
-    grad[4 * k + 1] =
-        inside ? r * (kappa * (fmin(dot(m->mu[k], w), 1.0f) - 1.0f) + vmf_dlognorm_dlogkappa(kappa)) : 0.0f;
-    const float sc = vmf_sigmoid(raw[4 * k + 2]), sd = vmf_sigmoid(raw[4 * k + 3]);
-    const float theta = VMF_PI * sc, phi = 2.0f * VMF_PI * sd;
-    const float ct = cos(theta), st = sin(theta), cp = cos(phi), sp = sin(phi);
-    const float3 dmu_dtheta = (float3)(ct * cp, ct * sp, -st), dmu_dphi = (float3)(-st * sp, st * cp, 0.0f);
-    grad[4 * k + 2] = r * kappa * dot(w, dmu_dtheta) * VMF_PI * sc * (1.0f - sc);
-    grad[4 * k + 3] = r * kappa * dot(w, dmu_dphi) * 2.0f * VMF_PI * sd * (1.0f - sd);
+    __global const float* l = lobes + k * VMF_LOBE_FLOATS;
+    const float r = exp(terms[k] - lq), kappa = l[VMF_L_KAPPA];
+    grad[4 * k] = r - l[VMF_L_LAMBDA];
+    grad[4 * k + 1] = l[VMF_L_FREE] * r * (kappa * vmf_cos_minus_one(vload3(0, l + VMF_L_MU), w) + l[VMF_L_DKAPPA]);
+    grad[4 * k + 2] = r * dot(w, vload3(0, l + VMF_L_DMU_DC));
+    grad[4 * k + 3] = r * dot(w, vload3(0, l + VMF_L_DMU_DD));
   }
   return lq;
 }
 
 // dlogq[s·32 ..] = ∂log q(ω_s)/∂raw of the sample's point: what the finite-difference tests check directly.
-__kernel void vmf_dlogq(__global const float* raw, __global const float* dirs, uint points, uint samples,
+__kernel void vmf_dlogq(__global const float* lobes, __global const float* dirs, uint points, uint samples,
                         __global float* dlogq) {
   const size_t s = get_global_id(0);
   if (s >= (size_t)points * samples) return;
-  __global const float* rp = raw + (s / samples) * VMF_RAW;
-  const vmf_mixture m = vmf_decode(rp);
   float grad[VMF_RAW];
-  vmf_dlogq_at(rp, &m, vload3(s, dirs), grad);
+  vmf_dlogq_at(lobes + (s / samples) * VMF_LOBES * VMF_LOBE_FLOATS, vload3(s, dirs), grad);
   for (int i = 0; i < VMF_RAW; ++i) dlogq[s * VMF_RAW + i] = grad[i];
 }

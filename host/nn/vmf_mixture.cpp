@@ -4,9 +4,15 @@
 
 namespace clr::nn {
 
+namespace {
+constexpr std::size_t kLobeFloats = 16;  // VMF_LOBE_FLOATS
+}
+
 VmfMixture::VmfMixture(cl::Context& ctx)
-    : total_(ctx, 1),
+    : ctx_(&ctx),
+      total_(ctx, 1),
       non_finite_(ctx, 1),
+      decode_(ctx.program({"atomics.cl", "vmf.cl", "guide.cl"}).kernel("vmf_decode")),
       sample_(ctx.program({"atomics.cl", "vmf.cl", "guide.cl"}).kernel("vmf_sample")),
       pdf_(ctx.program({"atomics.cl", "vmf.cl", "guide.cl"}).kernel("vmf_mixture_pdf")),
       dlogq_(ctx.program({"atomics.cl", "vmf.cl", "guide.cl"}).kernel("vmf_dlogq")),
@@ -15,28 +21,31 @@ VmfMixture::VmfMixture(cl::Context& ctx)
   non_finite_.fill(0u);
 }
 
-void VmfMixture::sample(const cl::Buffer<float>& raw, const cl::Buffer<float>& u, std::size_t points,
-                        std::size_t samples, cl::Buffer<float>& dirs) {
-  sample_.args(raw, u, u32(points), u32(samples), dirs).launch(points * samples);
+void VmfMixture::decode(const cl::Buffer<float>& raw, std::size_t points) {
+  if (lobes_.size() < points * kVmfLobes * kLobeFloats)
+    lobes_ = cl::Buffer<float>(*ctx_, points * kVmfLobes * kLobeFloats);
+  points_ = points;
+  decode_.args(raw, u32(points), lobes_).launch(points);
 }
 
-void VmfMixture::mixture_pdf(const cl::Buffer<float>& raw, const cl::Buffer<float>& dirs,
-                             const cl::Buffer<float>& bsdf_pdf, std::size_t points, std::size_t samples,
+void VmfMixture::sample(const cl::Buffer<float>& u, std::size_t samples, cl::Buffer<float>& dirs) {
+  sample_.args(lobes_, u, u32(points_), u32(samples), dirs).launch(points_ * samples);
+}
+
+void VmfMixture::mixture_pdf(const cl::Buffer<float>& dirs, const cl::Buffer<float>& bsdf_pdf, std::size_t samples,
                              float bsdf_fraction, cl::Buffer<float>& pdf, cl::Buffer<float>& q) {
-  pdf_.args(raw, dirs, bsdf_pdf, u32(points), u32(samples), bsdf_fraction, pdf, q).launch(points * samples);
+  pdf_.args(lobes_, dirs, bsdf_pdf, u32(points_), u32(samples), bsdf_fraction, pdf, q).launch(points_ * samples);
 }
 
-void VmfMixture::dlogq(const cl::Buffer<float>& raw, const cl::Buffer<float>& dirs, std::size_t points,
-                       std::size_t samples, cl::Buffer<float>& out) {
-  dlogq_.args(raw, dirs, u32(points), u32(samples), out).launch(points * samples);
+void VmfMixture::dlogq(const cl::Buffer<float>& dirs, std::size_t samples, cl::Buffer<float>& out) {
+  dlogq_.args(lobes_, dirs, u32(points_), u32(samples), out).launch(points_ * samples);
 }
 
-void VmfMixture::loss(const cl::Buffer<float>& raw, const GuideSamples& s, std::size_t points, std::size_t samples,
-                      bool improved, cl::Buffer<float>& d_raw) {
+void VmfMixture::loss(const GuideSamples& s, std::size_t samples, bool improved, cl::Buffer<float>& d_raw) {
   loss_
-      .args(u32(points), u32(samples), raw, s.dirs, s.bsdf_pdf, s.pdf, s.weight, s.emitted, s.lookup, s.radiance,
-            improved ? 1u : 0u, 1.0f / float(points), d_raw, total_, non_finite_)
-      .launch(points);
+      .args(u32(points_), u32(samples), lobes_, s.dirs, s.bsdf_pdf, s.pdf, s.weight, s.emitted, s.lookup, s.radiance,
+            improved ? 1u : 0u, 1.0f / float(points_), d_raw, total_, non_finite_)
+      .launch(points_);
 }
 
 LossValue VmfMixture::take() {

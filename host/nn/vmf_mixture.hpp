@@ -30,27 +30,29 @@ class VmfMixture {
  public:
   explicit VmfMixture(cl::Context& ctx);
 
+  // Decodes the raw outputs [points × kVmfRaw] into lobes (all the activations' transcendental work, once per
+  // step); the calls below read the lobes of the last decode.
+  void decode(const cl::Buffer<float>& raw, std::size_t points);
   // One direction per sample from its point's mixture; u holds 3 uniforms in [0, 1) per sample.
-  void sample(const cl::Buffer<float>& raw, const cl::Buffer<float>& u, std::size_t points, std::size_t samples,
-              cl::Buffer<float>& dirs);
+  void sample(const cl::Buffer<float>& u, std::size_t samples, cl::Buffer<float>& dirs);
   // p̃ and q at every sample's direction (bsdf_fraction 0 and bsdf_pdf ≥ 0 make p̃ = q).
-  void mixture_pdf(const cl::Buffer<float>& raw, const cl::Buffer<float>& dirs, const cl::Buffer<float>& bsdf_pdf,
-                   std::size_t points, std::size_t samples, float bsdf_fraction, cl::Buffer<float>& pdf,
-                   cl::Buffer<float>& q);
+  void mixture_pdf(const cl::Buffer<float>& dirs, const cl::Buffer<float>& bsdf_pdf, std::size_t samples,
+                   float bsdf_fraction, cl::Buffer<float>& pdf, cl::Buffer<float>& q);
   // out[s · kVmfRaw + i] = ∂log q(ω_s)/∂raw_i of the sample's point.
-  void dlogq(const cl::Buffer<float>& raw, const cl::Buffer<float>& dirs, std::size_t points, std::size_t samples,
-             cl::Buffer<float>& out);
+  void dlogq(const cl::Buffer<float>& dirs, std::size_t samples, cl::Buffer<float>& out);
   // d_raw [points × kVmfRaw] = gradient of the mean over points of the KL (improved = false, Eq. 17) or IKL
   // (Eq. 20) estimate; the loss value accumulates on the device until take(). Enqueues only.
-  void loss(const cl::Buffer<float>& raw, const GuideSamples& s, std::size_t points, std::size_t samples, bool improved,
-            cl::Buffer<float>& d_raw);
+  void loss(const GuideSamples& s, std::size_t samples, bool improved, cl::Buffer<float>& d_raw);
   // Reads and resets the accumulated loss and the count of dropped non-finite samples (a sync point).
   LossValue take();
 
  private:
+  cl::Context* ctx_;
+  std::size_t points_ = 0;
+  cl::Buffer<float> lobes_;  // [points × kVmfLobes × 16], kernels/vmf.cl's VMF_LOBE_FLOATS
   cl::Buffer<float> total_;
   cl::Buffer<std::uint32_t> non_finite_;
-  cl::Kernel sample_, pdf_, dlogq_, loss_;
+  cl::Kernel decode_, sample_, pdf_, dlogq_, loss_;
 };
 
 }  // namespace clr::nn

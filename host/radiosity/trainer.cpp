@@ -175,7 +175,8 @@ StepStats Trainer::step() {
     guide_uniforms(M, N, config_.seed, step, uniforms_host_);
     upload(*ctx_, uniforms_, uniforms_host_);
     reserve(*ctx_, guided_, M * N * 3);
-    vmf_->sample(guide_ctx_.output(), uniforms_, M, N, guided_);
+    vmf_->decode(guide_ctx_.output(), M);
+    vmf_->sample(uniforms_, N, guided_);
     guided_host_.resize(M * N * 3);
     guided_.read(std::span<float>(guided_host_));
   }
@@ -190,7 +191,7 @@ StepStats Trainer::step() {
     upload(*ctx_, bsdf_pdf_, batch_.bsdf_pdf);
     reserve(*ctx_, pdf_, M * N);
     reserve(*ctx_, q_, M * N);
-    vmf_->mixture_pdf(guide_ctx_.output(), directions_, bsdf_pdf_, M, N, batch_settings_.bsdf_fraction, pdf_, q_);
+    vmf_->mixture_pdf(directions_, bsdf_pdf_, N, batch_settings_.bsdf_fraction, pdf_, q_);
   } else {
     upload(*ctx_, pdf_, batch_.pdf);
   }
@@ -211,7 +212,7 @@ StepStats Trainer::step() {
     // The I-Module learns from the same samples and the N-Module's radiance before its update (sg(L_α)).
     reserve(*ctx_, d_lobes_, M * nn::kVmfRaw);
     const nn::GuideSamples samples{directions_, bsdf_pdf_, pdf_, weight_, emitted_, lookup_, incident_radiance_};
-    vmf_->loss(guide_ctx_.output(), samples, M, N, config_.is_loss == "ikl", d_lobes_);
+    vmf_->loss(samples, N, config_.is_loss == "ikl", d_lobes_);
     guide_->backward(guide_ctx_, d_lobes_);
     guide_->adam_step();
   }

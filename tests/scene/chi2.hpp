@@ -54,16 +54,16 @@ struct SphereGrid {
     const int j = std::min(kPhi - 1, int(phi / (2 * M_PI) * kPhi));
     return i * kPhi + j;
   }
-  // ∫ f dω over every cell (midpoint rule in cos θ and φ, where dω = d(cos θ) dφ).
-  static std::vector<double> integrate(const std::function<double(const scene::Vec3&)>& f) {
+  // ∫ f dω over every cell (midpoint rule in cos θ and φ, where dω = d(cos θ) dφ, `sub` nodes per cell and axis).
+  static std::vector<double> integrate(const std::function<double(const scene::Vec3&)>& f, int sub = kSub) {
     std::vector<double> out(kTheta * kPhi, 0.0);
-    const double dct = 2.0 / (kTheta * kSub), dphi = 2 * M_PI / (kPhi * kSub);
-    for (int i = 0; i < kTheta * kSub; ++i) {
+    const double dct = 2.0 / (kTheta * sub), dphi = 2 * M_PI / (kPhi * sub);
+    for (int i = 0; i < kTheta * sub; ++i) {
       const double ct = -1 + (i + 0.5) * dct, st = std::sqrt(std::max(0.0, 1 - ct * ct));
-      for (int j = 0; j < kPhi * kSub; ++j) {
+      for (int j = 0; j < kPhi * sub; ++j) {
         const double phi = (j + 0.5) * dphi;
         const scene::Vec3 w(float(st * std::cos(phi)), float(st * std::sin(phi)), float(ct));
-        out[std::size_t((i / kSub) * kPhi + j / kSub)] += f(w) * dct * dphi;
+        out[std::size_t((i / sub) * kPhi + j / sub)] += f(w) * dct * dphi;
       }
     }
     return out;
@@ -76,14 +76,16 @@ struct Chi2Result {
   std::string problem;  // non-empty: samples where the pdf says none can be
 };
 
-// `sample` draws one direction (nullopt: no sample, e.g. a delta lobe or absorption), `pdf` is its claimed density.
+// `sample` draws one direction (nullopt: no sample, e.g. a delta lobe or absorption), `pdf` is its claimed density;
+// `sub` quadrature nodes per cell and axis integrate it (more for densities sharper than a sixth of a cell).
 inline Chi2Result chi2_test(const std::function<std::optional<scene::Vec3>(Pcg32&)>& sample,
-                            const std::function<double(const scene::Vec3&)>& pdf, std::size_t n, std::uint64_t seed) {
+                            const std::function<double(const scene::Vec3&)>& pdf, std::size_t n, std::uint64_t seed,
+                            int sub = SphereGrid::kSub) {
   std::vector<double> observed(SphereGrid::kTheta * SphereGrid::kPhi, 0.0);
   Pcg32 rng(0, seed);
   for (std::size_t s = 0; s < n; ++s)
     if (const auto w = sample(rng)) observed[std::size_t(SphereGrid::cell(*w))] += 1;
-  auto expected = SphereGrid::integrate(pdf);
+  auto expected = SphereGrid::integrate(pdf, sub);
   for (auto& e : expected) e *= double(n);
 
   // Pool the cells with small expected counts (smallest first) until each pool expects at least 5.

@@ -1,0 +1,88 @@
+#pragma once
+// Double-precision host twin of kernels/vmf.cl and kernels/guide.cl: the lobe activations, the mixture's log-pdf,
+// one-lobe sampling, and the I-Module's KL / IKL loss of one point (whose raw gradient the tests take by central
+// finite differences).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <glm/glm.hpp>
+#include <span>
+#include <vector>
+
+namespace clr::test::vmf {
+
+inline constexpr int kLobes = 8, kRaw = 32;
+inline constexpr double kLogKappaMin = -9.2103403719761836, kLogKappaMax = 9.2103403719761836;  // κ ∈ [1e-4, 1e4]
+
+using dvec3 = glm::dvec3;
+
+struct Lobe {
+  double lambda, kappa;
+  dvec3 mu;
+};
+
+inline double sigmoid(double x) { return 1.0 / (1.0 + std::exp(-x)); }
+
+inline std::array<Lobe, kLobes> decode(std::span<const double> raw) {
+  std::array<Lobe, kLobes> lobes;
+  double amax = raw[0];
+  for (int k = 1; k < kLobes; ++k) amax = std::max(amax, raw[4 * k]);
+  double sum = 0;
+  for (int k = 0; k < kLobes; ++k) sum += std::exp(raw[4 * k] - amax);
+  for (int k = 0; k < kLobes; ++k) {
+    const double theta = M_PI * sigmoid(raw[4 * k + 2]), phi = 2 * M_PI * sigmoid(raw[4 * k + 3]);
+    lobes[k] = {std::exp(raw[4 * k] - amax) / sum,
+                std::exp(std::clamp(raw[4 * k + 1], kLogKappaMin, kLogKappaMax)),
+                {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)}};
+  }
+  return lobes;
+}
+
+// v(ω) = κ / (2π (1 − e^{−2κ})) · e^{κ (μ·ω − 1)}
+inline double lobe_pdf(const Lobe& l, const dvec3& w) {
+  return l.kappa / (2 * M_PI * -std::expm1(-2 * l.kappa)) * std::exp(l.kappa * (glm::dot(l.mu, w) - 1));
+}
+
+inline double pdf(const std::array<Lobe, kLobes>& lobes, const dvec3& w) {
+  double q = 0;
+  for (const Lobe& l : lobes) q += l.lambda * lobe_pdf(l, w);
+  return q;
+}
+
+inline double pdf(std::span<const double> raw, const dvec3& w) { return pdf(decode(raw), w); }
+
+// cos θ about μ from the inverse CDF, φ uniform; any orthonormal frame around μ (the χ² tests bin directions).
+inline dvec3 sample_lobe(const Lobe& l, double u1, double u2) {
+  const double ct = std::clamp(1 + std::log1p(u1 * std::expm1(-2 * l.kappa)) / l.kappa, -1.0, 1.0);
+  const double st = std::sqrt(std::max(0.0, 1 - ct * ct)), phi = 2 * M_PI * u2;
+  const dvec3 a = std::abs(l.mu.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
+  const dvec3 t = glm::normalize(glm::cross(a, l.mu)), b = glm::cross(l.mu, t);
+  return st * std::cos(phi) * t + st * std::sin(phi) * b + ct * l.mu;
+}
+
+// One point's samples as guide_loss reads them: target luminance t = lum(f·cos·L_i), the density p̃ the sample was
+// drawn with, and its direction; delta samples are left out by the caller (they count in N only).
+struct GuideSample {
+  double target, pdf;
+  dvec3 w;
+};
+
+// (1/N) Σ p/p̃ · log(p/q) (KL) or its absolute value (IKL), p = t/F, F = (1/N) Σ t/p̃, with p and p̃ constants: its
+// gradient w.r.t. raw is guide_loss's.
+inline double guide_loss(std::span<const double> raw, std::span<const GuideSample> s, std::size_t n_total,
+                         bool improved) {
+  double F = 0;
+  for (const auto& x : s) F += x.target / x.pdf;
+  F /= double(n_total);
+  if (!(F > 0)) return 0;
+  double loss = 0;
+  for (const auto& x : s) {
+    const double p = x.target / F;
+    if (p <= 0) continue;
+    const double log_ratio = std::log(p) - std::log(pdf(raw, x.w));
+    loss += p / x.pdf / double(n_total) * (improved ? std::abs(log_ratio) : log_ratio);
+  }
+  return loss;
+}
+
+}  // namespace clr::test::vmf
