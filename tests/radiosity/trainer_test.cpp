@@ -164,6 +164,64 @@ TEST_F(Training, ResumeContinuesTheLossCurve) {
   EXPECT_LT(mean(15, 5), mean(0, 3));
 }
 
+// ISNR's step is deterministic (fixed-point hash-grid gradients, per-point guide gradients), so a run stopped and
+// resumed must end bit for bit where an uninterrupted run ends: both modules travel in model.clr.
+TEST_F(Training, IsnrResumeIsBitExact) {
+  const auto scene = scene::load_scene(kScenes / "cornell-box.xml", {{"res", "16"}});
+  const geometry::Geometry geometry(scene);
+  const radiosity::RenderSettings settings{.width = 0, .height = 0, .spp = 1};
+  auto config = small_config(40);
+  // Schedules that depend on the budget would differ between a 20-step and a 40-step session.
+  config.anneal_start = 1.0;
+  config.relative_fade_end = 0.0;
+  ASSERT_EQ(config.method, "isnr");
+  TempRun straight("isnr_straight"), halves("isnr_halves");
+  radiosity::Trainer a(ctx(), geometry, config, straight.path, false);
+  ASSERT_NE(a.guide(), nullptr);
+  a.run();
+  auto first = config;
+  first.steps = 20;
+  radiosity::Trainer(ctx(), geometry, first, halves.path, false).run();
+  radiosity::Trainer b(ctx(), geometry, config, halves.path, true);
+  ASSERT_NE(b.guide(), nullptr);
+  EXPECT_EQ(b.guide()->steps(), 20u);
+  b.run();
+  EXPECT_EQ(b.guide()->mlp().params().read(), a.guide()->mlp().params().read());
+  EXPECT_EQ(b.guide()->encoder().grid()->params().read(), a.guide()->encoder().grid()->params().read());
+  EXPECT_EQ(radiosity::render(geometry, radiosity::radiance_query(ctx(), b.network()), settings).rgb,
+            radiosity::render(geometry, radiosity::radiance_query(ctx(), a.network()), settings).rgb);
+  // The log has the I-Module's columns, and its loss is finite.
+  const auto log = read_log(halves.path);
+  ASSERT_EQ(log.size(), 4u);
+  for (const auto& row : log) {
+    ASSERT_EQ(row.size(), 9u);
+    EXPECT_TRUE(std::isfinite(row[7]));
+    EXPECT_NEAR(row[8], 1.0 - config.bsdf_fraction, 0.02) << "guided share";
+  }
+}
+
+// A run directory written before ISNR existed has no `method` (nor the I-Module's keys) in its config.json: it
+// resumes as the vanilla NR run it was.
+TEST_F(Training, RunsWithoutAMethodResumeAsNr) {
+  const auto scene = scene::load_scene(kScenes / "cornell-box.xml", {{"res", "16"}});
+  const geometry::Geometry geometry(scene);
+  TempRun run("old_nr");
+  auto config = small_config(10);
+  config.method = "nr";
+  radiosity::Trainer(ctx(), geometry, config, run.path, false).run();
+  std::ifstream in(run.path / "config.json");
+  auto saved = nlohmann::json::parse(in);
+  for (const char* key : {"method", "is_loss", "bsdf_fraction", "guide"}) saved.erase(key);
+  std::ofstream(run.path / "config.json") << saved.dump(2);
+  config.steps = 20;
+  config.method = "isnr";  // only the stopping rule is taken from a resuming invocation
+  radiosity::Trainer resumed(ctx(), geometry, config, run.path, true);
+  EXPECT_EQ(resumed.config().method, "nr");
+  EXPECT_EQ(resumed.guide(), nullptr);
+  resumed.run();
+  EXPECT_EQ(resumed.steps_done(), 20u);
+}
+
 TEST_F(Training, RunDirectoryRules) {
   const auto scene = scene::load_scene(kScenes / "cornell-box.xml", {{"res", "32"}});
   const geometry::Geometry geometry(scene);
