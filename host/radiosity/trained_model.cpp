@@ -1,5 +1,7 @@
 #include "radiosity/trained_model.hpp"
 
+#include <fstream>
+
 #include "cl/buffer.hpp"
 #include "common/error.hpp"
 #include "nn/checkpoint.hpp"
@@ -17,6 +19,24 @@ std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesyste
   auto network = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config));
   network->load(checkpoint.string());
   return network;
+}
+
+std::unique_ptr<nn::Network> load_guide(cl::Context& ctx, const std::filesystem::path& run_dir) {
+  const auto config_path = run_dir / "config.json";
+  std::ifstream in(config_path);
+  if (!in) throw InputError("cannot read " + config_path.string());
+  nlohmann::json config;
+  try {
+    config = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError("malformed JSON in " + config_path.string() + ": " + e.what());
+  }
+  if (config.value("method", "nr") != "isnr" || !config.contains("guide"))
+    throw InputError(run_dir.string() + " was trained without an I-Module (method nr): there is no guide to read");
+  auto guide = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config.at("guide")));
+  const auto model = (run_dir / "model.clr").string();
+  guide->restore(nn::read_checkpoint(model), model, "guide.");
+  return guide;
 }
 
 RadianceQuery radiance_query(cl::Context& ctx, nn::Network& network) {

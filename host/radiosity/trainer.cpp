@@ -126,10 +126,7 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
     saved.minutes = config_.minutes;
     config_ = saved;
     network_ = load_network(ctx, model);
-    if (config_.guided()) {
-      guide_ = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config_.guide));
-      guide_->restore(nn::read_checkpoint(model.string()), model.string(), "guide.");
-    }
+    if (config_.guided()) guide_ = load_guide(ctx, run_dir_);
     // The log's last row carries the training time so far, so resumed rows continue its time axis.
     std::istringstream log(read_text(run_dir_ / "log.csv"));
     std::string line, last;
