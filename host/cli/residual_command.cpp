@@ -1,4 +1,4 @@
-// clradiosity residual SCENE.xml --model RUN_DIR [--points P --samples S] [--json]
+// clradiosity residual SCENE.xml --model RUN_DIR [--points P --samples S] [--sampling bsdf|guide] [--json]
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -7,6 +7,7 @@
 #include "cli/command.hpp"
 #include "geometry/geometry.hpp"
 #include "radiosity/residual.hpp"
+#include "radiosity/train_config.hpp"
 #include "radiosity/trained_model.hpp"
 #include "scene/scene.hpp"
 
@@ -14,7 +15,8 @@ namespace clr::cli {
 
 Command add_residual_command(CLI::App& app) {
   struct Options {
-    std::string scene, model, device;
+    std::string scene, model, device, sampling = "bsdf";
+    float bsdf_fraction = -1;
     std::size_t points = 1 << 16, samples = 256;
     std::uint64_t seed = 7;
     bool json = false;
@@ -24,7 +26,12 @@ Command add_residual_command(CLI::App& app) {
   cmd->add_option("scene", opt->scene, "Mitsuba scene (XML)")->required();
   cmd->add_option("--model", opt->model, "Run directory written by `train` (or a model.clr file)")->required();
   cmd->add_option("--points", opt->points, "Random (x, ω_o) points (default 65536)")->check(CLI::Range(1, 1 << 24));
-  cmd->add_option("--samples", opt->samples, "BSDF samples per point (default 256)")->check(CLI::Range(1, 1 << 16));
+  cmd->add_option("--samples", opt->samples, "Incident samples per point (default 256)")->check(CLI::Range(1, 1 << 16));
+  cmd->add_option("--sampling", opt->sampling,
+                  "bsdf (default) or guide: the one-sample mixture with the run's I-Module, as training draws them")
+      ->check(CLI::IsMember({"bsdf", "guide"}));
+  cmd->add_option("--bsdf-fraction", opt->bsdf_fraction, "BSDF share of the guided mixture (default: the run's)")
+      ->check(CLI::Range(1e-6, 1.0));
   cmd->add_option("--seed", opt->seed, "Random seed");
   cmd->add_flag("--json", opt->json, "Print one JSON object");
   add_device_option(*cmd, opt->device);
@@ -36,17 +43,28 @@ Command add_residual_command(CLI::App& app) {
             std::filesystem::path model = opt->model;
             if (std::filesystem::is_directory(model)) model /= "model.clr";
             auto network = radiosity::load_network(ctx, model);
-            const auto r = radiosity::measure_residual(ctx, geometry, *network, opt->points, opt->samples, opt->seed);
+            std::unique_ptr<nn::Network> guide;
+            float fraction = opt->bsdf_fraction;
+            if (opt->sampling == "guide") {
+              const auto run = model.parent_path();
+              guide = radiosity::load_guide(ctx, run);
+              if (fraction < 0)
+                fraction = float(radiosity::load_train_config((run / "config.json").string()).bsdf_fraction);
+            }
+            const auto r = radiosity::measure_residual(ctx, geometry, *network, opt->points, opt->samples, opt->seed,
+                                                       guide.get(), fraction);
             if (opt->json)
               std::cout << nlohmann::json{{"residual", r.mean},
                                           {"standard_error", r.standard_error},
+                                          {"rhs_variance", r.rhs_variance},
+                                          {"sampling", opt->sampling},
                                           {"points", r.points},
                                           {"samples", opt->samples}}
                                .dump()
                         << "\n";
             else
-              std::printf("residual %.6g ± %.2g (P = %zu, S = %zu)\n", r.mean, r.standard_error, r.points,
-                          opt->samples);
+              std::printf("residual %.6g ± %.2g, one-sample RHS variance %.6g (P = %zu, S = %zu, %s sampling)\n",
+                          r.mean, r.standard_error, r.rhs_variance, r.points, opt->samples, opt->sampling.c_str());
             return 0;
           }};
 }

@@ -3,46 +3,65 @@
 #include <cmath>
 
 #include "cl/buffer.hpp"
+#include "radiosity/incident_sampling.hpp"
 
 namespace clr::radiosity {
 
 ResidualStats measure_residual(cl::Context& ctx, const geometry::Geometry& geometry, nn::Network& network,
-                               std::size_t points, std::size_t samples, std::uint64_t seed) {
+                               std::size_t points, std::size_t samples, std::uint64_t seed, nn::Network* guide,
+                               float bsdf_fraction) {
   const geometry::SurfaceSampler sampler(geometry.scene());
   // Chunks of points bound the host and device memory whatever P·S is.
   const std::size_t chunk = std::max<std::size_t>(1, std::min<std::size_t>(points, (1u << 18) / samples));
-  auto rhs_kernel = ctx.program({"radiosity.cl"}).kernel("incident_rhs");
-  cl::Buffer<std::uint32_t> non_finite(ctx, 1);
-  non_finite.fill(0u);
+  IncidentSampling incident(ctx);
   TrainingBatch batch;
-  double sum = 0, sum_sq = 0;
+  double sum = 0, sum_sq = 0, variance = 0;
   std::size_t done = 0;
   for (std::uint64_t c = 0; done < points; ++c) {
-    const BatchSettings settings{std::min(chunk, points - done), samples, 8};
+    BatchSettings settings{std::min(chunk, points - done), samples, 8, guide ? bsdf_fraction : 1.0f};
     // A stream of its own (step index past any training run's), so the metric never reuses training samples.
-    build_training_batch(geometry, sampler, settings, seed, (1ull << 62) + c, batch);
-    const std::size_t M = batch.points, K = batch.lookups();
-    cl::Buffer<float> point_rows(ctx, std::span<const float>(batch.point_rows));
-    cl::Buffer<float> incident_rows(ctx, std::span<const float>(batch.incident_rows));
-    cl::Buffer<float> weight(ctx, std::span<const float>(batch.weight)),
-        emitted(ctx, std::span<const float>(batch.emitted)), pdf(ctx, std::span<const float>(batch.pdf));
-    cl::Buffer<int> lookup(ctx, std::span<const int>(batch.lookup));
-    cl::Buffer<float> incident(ctx, std::max<std::size_t>(1, K) * 3), rhs(ctx, M * 3), pred(ctx, M * 3);
-    if (K) network.infer(incident_rows, K, incident);
-    rhs_kernel.args(weight, emitted, pdf, lookup, incident, unsigned(M), unsigned(samples), rhs, non_finite).launch(M);
+    const std::uint64_t step = (1ull << 62) + c;
+    sample_training_points(sampler, geometry.scene(), settings, seed, step, batch);
+    const std::size_t M = batch.points;
+    cl::Buffer<float> point_rows(ctx, std::span<const float>(batch.point_rows)), lobes;
+    if (guide) {
+      lobes = cl::Buffer<float>(ctx, M * nn::kVmfRaw);
+      guide->infer(point_rows, M, lobes);
+    }
+    incident.sample(geometry, settings, seed, step, guide ? &lobes : nullptr, batch);
+    const std::size_t K = batch.lookups();
+    cl::Buffer<float> radiance(ctx, std::max<std::size_t>(1, K) * 3), pred(ctx, M * 3);
+    if (K) network.infer(incident.incident_rows, K, radiance);
     network.infer(point_rows, M, pred);
-    const auto p = pred.read(), r = rhs.read();
+    const auto L = radiance.read(), p = pred.read();
+    const auto pdf = incident.pdf.read();
     for (std::size_t m = 0; m < M; ++m) {
-      double r2 = 0;
-      for (int ch = 0; ch < 3; ++ch) r2 += std::pow(double(p[3 * m + ch]) - r[3 * m + ch], 2) / 3.0;
+      double r2 = 0, var = 0;
+      for (std::size_t ch = 0; ch < 3; ++ch) {
+        double s1 = 0, s2 = 0;
+        for (std::size_t n = 0; n < samples; ++n) {
+          const std::size_t s = m * samples + n;
+          double term = batch.emitted[3 * s + ch];
+          if (batch.lookup[s] >= 0) term += double(batch.weight[3 * s + ch]) * L[3 * std::size_t(batch.lookup[s]) + ch];
+          term /= pdf[s];
+          if (!std::isfinite(term)) continue;
+          s1 += term;
+          s2 += term * term;
+        }
+        const double rhs = s1 / double(samples);
+        r2 += std::pow(double(p[3 * m + ch]) - rhs, 2) / 3.0;
+        if (samples > 1) var += std::max(0.0, s2 - double(samples) * rhs * rhs) / double(samples - 1) / 3.0;
+      }
       sum += r2;
       sum_sq += r2 * r2;
+      variance += var;
     }
     done += M;
   }
   ResidualStats s;
   s.points = done;
   s.mean = sum / double(done);
+  s.rhs_variance = variance / double(done);
   const double var = std::max(0.0, sum_sq / double(done) - s.mean * s.mean);
   s.standard_error = std::sqrt(var / double(std::max<std::size_t>(1, done - 1)));
   return s;

@@ -1,8 +1,10 @@
 #pragma once
 // The paper's residual metric (ISNR Table 3): the mean squared rendering-equation residual
-// r = L_α(x, ω_o) − (1/S) Σ f·cos·(Le + L_α(x', −ω_i))/p over P random (x, ω_o), S BSDF samples each,
-// averaged over RGB, with the standard error of that mean. With finite S the estimate includes the variance of
-// the S-sample integral (E[r̂²] = r² + Var/S), as the paper's does.
+// r = L_α(x, ω_o) − (1/S) Σ f·cos·(Le + L_α(x', −ω_i))/p̃ over P random (x, ω_o), S samples each, averaged over
+// RGB, with the standard error of that mean. With finite S the estimate includes the variance of the S-sample
+// integral (E[r̂²] = r² + Var/S), as the paper's does. The samples come from the BSDF, or — given an I-Module —
+// from the one-sample mixture training uses, so that the variance of one sample's estimate of the right-hand side
+// (`rhs_variance`) shows what the guide does for the estimator with the N-Module held fixed.
 #include "nn/network.hpp"
 #include "radiosity/training_batch.hpp"
 
@@ -11,10 +13,13 @@ namespace clr::radiosity {
 struct ResidualStats {
   double mean = 0;
   double standard_error = 0;
+  double rhs_variance = 0;  // mean over points and RGB of the variance of a one-sample RHS estimate
   std::size_t points = 0;
 };
 
+// `guide` null: BSDF sampling; else the mixture with BSDF share `bsdf_fraction`.
 ResidualStats measure_residual(cl::Context& ctx, const geometry::Geometry& geometry, nn::Network& network,
-                               std::size_t points, std::size_t samples, std::uint64_t seed);
+                               std::size_t points, std::size_t samples, std::uint64_t seed,
+                               nn::Network* guide = nullptr, float bsdf_fraction = 1.0f);
 
 }  // namespace clr::radiosity

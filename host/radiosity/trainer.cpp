@@ -112,6 +112,7 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
       config_(std::move(config)),
       run_dir_(std::move(run_dir)),
       loss_(ctx),
+      incident_(ctx),
       non_finite_(ctx, 1),
       rhs_kernel_(ctx.program({"radiosity.cl"}).kernel("incident_rhs")) {
   const fs::path model = run_dir_ / "model.clr";
@@ -148,11 +149,8 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
     write_text_atomically(run_dir_ / "config.json", nlohmann::json(config_).dump(2) + "\n");
     write_text_atomically(run_dir_ / "log.csv", std::string(kLogHeader) + (guide_ ? kGuideLogColumns : "") + "\n");
   }
-  if (guide_) {
-    if (guide_->outputs() != nn::kVmfRaw)
-      throw InputError("guide: the I-Module must have " + std::to_string(nn::kVmfRaw) + " outputs (8 lobes × 4)");
-    vmf_.emplace(ctx);
-  }
+  if (guide_ && guide_->outputs() != nn::kVmfRaw)
+    throw InputError("guide: the I-Module must have " + std::to_string(nn::kVmfRaw) + " outputs (8 lobes × 4)");
   residual_power_ = float(config_.relative_power(0.0));
   batch_settings_.points = std::size_t(config_.batch);
   batch_settings_.samples = std::size_t(config_.samples);
@@ -161,55 +159,36 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
 }
 
 StepStats Trainer::step() {
-  const std::uint64_t step = network_->steps();
+  // Both modules step together, so their counts agree unless the N-Module is held.
+  const std::uint64_t step = guide_ ? guide_->steps() : network_->steps();
   sample_training_points(sampler_, geometry_->scene(), batch_settings_, config_.seed, step, batch_);
   const std::size_t M = batch_.points, N = batch_.samples;
   upload(*ctx_, point_rows_, batch_.point_rows);
-  if (guide_) {
-    // The I-Module's lobes at the points (activations kept for its backward), and a direction from them for every
-    // sample; the host uses those of the samples that pick the guide.
-    guide_->forward_train(point_rows_, M, guide_ctx_);
-    guide_uniforms(M, N, config_.seed, step, uniforms_host_);
-    upload(*ctx_, uniforms_, uniforms_host_);
-    reserve(*ctx_, guided_, M * N * 3);
-    vmf_->decode(guide_ctx_.output(), M);
-    vmf_->sample(uniforms_, N, guided_);
-    guided_host_.resize(M * N * 3);
-    guided_.read(std::span<float>(guided_host_));
-  }
-  sample_incident(*geometry_, batch_settings_, config_.seed, step, guided_host_, batch_);
+  // The I-Module's lobes at the points, activations kept for its backward.
+  if (guide_) guide_->forward_train(point_rows_, M, guide_ctx_);
+  incident_.sample(*geometry_, batch_settings_, config_.seed, step, guide_ ? &guide_ctx_.output() : nullptr, batch_);
   const std::size_t K = batch_.lookups();
-  upload(*ctx_, incident_rows_, batch_.incident_rows);
-  upload(*ctx_, weight_, batch_.weight);
-  upload(*ctx_, emitted_, batch_.emitted);
-  upload(*ctx_, lookup_, batch_.lookup);
-  if (guide_) {
-    upload(*ctx_, directions_, batch_.directions);
-    upload(*ctx_, bsdf_pdf_, batch_.bsdf_pdf);
-    reserve(*ctx_, pdf_, M * N);
-    reserve(*ctx_, q_, M * N);
-    vmf_->mixture_pdf(directions_, bsdf_pdf_, N, batch_settings_.bsdf_fraction, pdf_, q_);
-  } else {
-    upload(*ctx_, pdf_, batch_.pdf);
-  }
   reserve(*ctx_, incident_radiance_, std::max<std::size_t>(1, K) * 3);
   reserve(*ctx_, rhs_, M * 3);
   reserve(*ctx_, d_output_, M * 3);
 
   // sg(L_α) at the incident hits: inference only, no activations kept.
-  if (K) network_->infer(incident_rows_, K, incident_radiance_);
-  rhs_kernel_.args(weight_, emitted_, pdf_, lookup_, incident_radiance_, unsigned(M), unsigned(N), rhs_, non_finite_)
+  if (K) network_->infer(incident_.incident_rows, K, incident_radiance_);
+  rhs_kernel_
+      .args(incident_.weight, incident_.emitted, incident_.pdf, incident_.lookup, incident_radiance_, unsigned(M),
+            unsigned(N), rhs_, non_finite_)
       .launch(M);
-  network_->forward_train(point_rows_, M, train_ctx_);
-  // Mean over points and channels, so the learning rate does not depend on the batch size.
-  loss_.evaluate(train_ctx_.output(), rhs_, M * 3, 1.0f / float(M * 3), residual_power_, d_output_);
-  network_->backward(train_ctx_, d_output_);
-  network_->adam_step();
+  if (!hold_radiance_) {
+    network_->forward_train(point_rows_, M, train_ctx_);
+    // Mean over points and channels, so the learning rate does not depend on the batch size.
+    loss_.evaluate(train_ctx_.output(), rhs_, M * 3, 1.0f / float(M * 3), residual_power_, d_output_);
+    network_->backward(train_ctx_, d_output_);
+    network_->adam_step();
+  }
   if (guide_) {
     // The I-Module learns from the same samples and the N-Module's radiance before its update (sg(L_α)).
     reserve(*ctx_, d_lobes_, M * nn::kVmfRaw);
-    const nn::GuideSamples samples{directions_, bsdf_pdf_, pdf_, weight_, emitted_, lookup_, incident_radiance_};
-    vmf_->loss(samples, N, config_.is_loss == "ikl", d_lobes_);
+    incident_.vmf().loss(incident_.guide_samples(incident_radiance_), N, config_.is_loss == "ikl", d_lobes_);
     guide_->backward(guide_ctx_, d_lobes_);
     guide_->adam_step();
   }
@@ -264,7 +243,7 @@ void Trainer::run() {
     const long now = long(network_->steps());
     if (now % config_.log_every == 0) {
       const nn::LossValue v = loss_.take();
-      const nn::LossValue g = guide_ ? vmf_->take() : nn::LossValue{0, 0};
+      const nn::LossValue g = guide_ ? incident_.vmf().take() : nn::LossValue{0, 0};
       loss_sum = v.loss / double(loss_steps);
       char row[256];
       std::snprintf(row, sizeof row, "%ld,%.3f,%.6g,%.3f,%u,%.6g,%.4g", now, seconds_before_ + elapsed(), loss_sum,

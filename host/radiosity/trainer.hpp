@@ -6,12 +6,11 @@
 // A run lives in RUN_DIR: config.json (settings), log.csv (one row per log interval), model.clr (checkpoint).
 #include <filesystem>
 #include <memory>
-#include <optional>
 
 #include "cl/context.hpp"
 #include "nn/loss.hpp"
 #include "nn/network.hpp"
-#include "nn/vmf_mixture.hpp"
+#include "radiosity/incident_sampling.hpp"
 #include "radiosity/train_config.hpp"
 #include "radiosity/training_batch.hpp"
 
@@ -49,6 +48,9 @@ class Trainer {
   const TrainConfig& config() const { return config_; }
   nn::Network& network() { return *network_; }
   nn::Network* guide() { return guide_.get(); }  // null for method nr
+  // Holds the N-Module fixed: steps train the I-Module alone, on the radiance the N-Module has (the guide's
+  // variance study on a converged radiance field). Step streams then follow the I-Module's step count.
+  void hold_radiance(bool hold) { hold_radiance_ = hold; }
 
  private:
   void append_log(const std::string& line) const;
@@ -64,17 +66,15 @@ class Trainer {
   BatchSettings batch_settings_;
   TrainingBatch batch_;
   nn::NetworkContext train_ctx_;
-  cl::Buffer<float> point_rows_, incident_rows_, weight_, emitted_, incident_radiance_, rhs_, d_output_;
-  cl::Buffer<float> pdf_;
-  cl::Buffer<int> lookup_;
+  IncidentSampling incident_;
+  cl::Buffer<float> point_rows_, incident_radiance_, rhs_, d_output_;
   cl::Buffer<std::uint32_t> non_finite_;
   cl::Kernel rhs_kernel_;
-  // The I-Module and what its step needs (method isnr only).
+  // The I-Module (method isnr only).
   std::unique_ptr<nn::Network> guide_;
-  std::optional<nn::VmfMixture> vmf_;
   nn::NetworkContext guide_ctx_;
-  std::vector<float> uniforms_host_, guided_host_;
-  cl::Buffer<float> uniforms_, guided_, directions_, bsdf_pdf_, q_, d_lobes_;
+  cl::Buffer<float> d_lobes_;
+  bool hold_radiance_ = false;
   double seconds_before_ = 0;  // training time of earlier sessions of a resumed run
 };
 

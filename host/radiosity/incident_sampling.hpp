@@ -1,0 +1,38 @@
+#pragma once
+// The incident half of a batch on the device (DESIGN.md §2), shared by training and the residual metric: the
+// directions from the BSDF alone, or from the one-sample mixture p̃ = c·p_bsdf + (1 − c)·q with an I-Module's
+// lobes — the guided directions drawn on the device and read back for the host's half, p̃ evaluated on the device
+// — and the batch's per-sample arrays uploaded, ready for the right-hand side and the guide's loss.
+#include "cl/buffer.hpp"
+#include "cl/context.hpp"
+#include "nn/vmf_mixture.hpp"
+#include "radiosity/training_batch.hpp"
+
+namespace clr::radiosity {
+
+class IncidentSampling {
+ public:
+  explicit IncidentSampling(cl::Context& ctx);
+
+  // After sample_training_points filled `batch`'s points: draws its incident half with `lobes` ([points × 32] raw
+  // I-Module outputs on the device) when given and settings.bsdf_fraction < 1, else from the BSDF alone.
+  void sample(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed, std::uint64_t step,
+              const cl::Buffer<float>* lobes, TrainingBatch& batch);
+
+  // Device copies of the last batch's arrays (directions and bsdf_pdf only with lobes).
+  cl::Buffer<float> incident_rows, weight, emitted, pdf, directions, bsdf_pdf;
+  cl::Buffer<int> lookup;
+  // The guide's view of those samples, once `radiance` holds sg(L_α) at the incident rows.
+  nn::GuideSamples guide_samples(const cl::Buffer<float>& radiance) const {
+    return {directions, bsdf_pdf, pdf, weight, emitted, lookup, radiance};
+  }
+  nn::VmfMixture& vmf() { return vmf_; }
+
+ private:
+  cl::Context* ctx_;
+  nn::VmfMixture vmf_;
+  std::vector<float> uniforms_host_, guided_host_;
+  cl::Buffer<float> uniforms_, guided_, q_;
+};
+
+}  // namespace clr::radiosity
