@@ -78,6 +78,39 @@ TEST_F(TrainCli, InterruptWritesACheckpointAndExitsCleanly) {
   EXPECT_EQ(r.exit_code, 0) << r.err;  // already past 1 step: resumes, writes the checkpoint, stops
 }
 
+// An ISNR run as a user meets it: the I-Module's view of a pixel, the residual under guided sampling, and the
+// errors of asking an NR run for its guide or giving impossible ISNR settings.
+TEST_F(TrainCli, IsnrRunShowsItsGuide) {
+  const std::string run = (dir / "isnr").string(), nr = (dir / "nr").string();
+  auto r = run_cli("train " + kBox + " --steps 10 --config " + config + " -o " + run);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("isnr"));
+  EXPECT_THAT(r.err, HasSubstr("I-Module"));
+  r = run_cli("guide " + kBox + " --model " + run + " --pixel 64,64 --resolution 16 -o " + (dir / "g.png").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("KL(p||q)"));
+  EXPECT_TRUE(fs::exists(dir / "g.png"));
+  r = run_cli("residual " + kBox + " --model " + run + " --points 64 --samples 4 --sampling guide --json");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("\"sampling\":\"guide\""));
+
+  ASSERT_EQ(run_cli("train " + kBox + " --steps 2 --method nr --config " + config + " -o " + nr).exit_code, 0);
+  const std::pair<std::string, std::string> cases[] = {
+      {"guide " + kBox + " --model " + nr + " --pixel 1,1 -o " + (dir / "n.png").string(), "without an I-Module"},
+      {"guide " + kBox + " --model " + run + " --pixel 500,1 -o " + (dir / "n.png").string(), "outside"},
+      {"residual " + kBox + " --model " + nr + " --sampling guide", "without an I-Module"},
+      {"train " + kBox + " --steps 1 --bsdf-fraction 0 -o " + (dir / "x").string(), "bsdf_fraction"},
+      {"train " + kBox + " --steps 1 --is-loss nope -o " + (dir / "x").string(), "--is-loss"},
+  };
+  for (const auto& [args, culprit] : cases) {
+    r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_THAT(r.err, HasSubstr(culprit)) << args;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "n.png"));
+}
+
 TEST_F(TrainCli, BadInputExitsTwoWithOneLine) {
   const std::string run = (dir / "run").string();
   fs::create_directories(dir / "empty");
