@@ -179,7 +179,7 @@ int main(int argc, char** argv) {
     cl::Buffer<float> dx(ctx, std::span<const float>(x)), out(ctx, rows * mc.outputs);
     double ms[2];
     for (int fused = 1; fused >= 0; --fused) {
-      mc.fused_small = fused == 1;
+      mc.small_path = fused == 1 ? nn::MlpConfig::SmallPath::Fused : nn::MlpConfig::SmallPath::Layers;
       nn::Mlp m(ctx, g, mc, 1);
       auto run = [&] {
         m.infer(dx, rows, out);

@@ -3,40 +3,17 @@
 #include <clblast.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <vector>
 
-#include "common/atomic_file.hpp"
 #include "common/error.hpp"
+#include "nn/probe_cache.hpp"
 
 namespace clr::nn {
 namespace {
 
 std::size_t ceil_div(std::size_t a, std::size_t b) { return (a + b - 1) / b; }
-
-std::string device_driver(const cl::Context& ctx) {
-  std::size_t n = 0;
-  CLR_CL_CHECK(clGetDeviceInfo(ctx.device().device, CL_DRIVER_VERSION, 0, nullptr, &n));
-  std::string s(n, '\0');
-  CLR_CL_CHECK(clGetDeviceInfo(ctx.device().device, CL_DRIVER_VERSION, n, s.data(), nullptr));
-  return s.c_str();
-}
-
-std::filesystem::path cache_file() {
-  std::filesystem::path dir;
-  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
-    dir = x;
-  else if (const char* h = std::getenv("HOME"); h && *h)
-    dir = std::filesystem::path(h) / ".cache";
-  else
-    return {};
-  return dir / "clradiosity" / "gemm_probe.json";
-}
 
 }  // namespace
 
@@ -221,22 +198,7 @@ GemmPlan choose_gemm_plan(cl::Context& ctx, GemmChoice choice) {
   if (choice == GemmChoice::Auto) candidates.push_back({GemmBackend::CLBlast, tiles.front()});
   if (candidates.size() == 1) return candidates.front();
 
-  // The cache: {device key: {plan name: seconds}}. A damaged or unreadable cache is rebuilt, never fatal.
-  const std::string key = ctx.device().platform_name + " | " + ctx.device().name + " | " + device_driver(ctx);
-  const auto file = cache_file();
-  nlohmann::json cache = nlohmann::json::object();
-  if (!file.empty()) {
-    std::ifstream in(file);
-    try {
-      if (in) cache = nlohmann::json::parse(in);
-      if (!cache.is_object() || (cache.contains(key) && !cache[key].is_object())) cache = nlohmann::json::object();
-    } catch (const std::exception&) {
-      cache = nlohmann::json::object();
-    }
-  }
-  nlohmann::json& times = cache[key];
-  if (times.is_null()) times = nlohmann::json::object();
-
+  ProbeCache cache(ctx);
   const std::size_t m = 4096, n = 512, k = 512;
   std::optional<cl::Buffer<float>> a, b, c;
   auto time_of = [&](const GemmPlan& plan) {
@@ -248,42 +210,19 @@ GemmPlan choose_gemm_plan(cl::Context& ctx, GemmChoice choice) {
     }
     try {
       Gemm g(ctx, plan);
-      const auto run = [&] { g.run(Op::N, Op::N, m, n, k, 1.0f, mat(*a, k), mat(*b, n), 0.0f, mat(*c, n)); };
-      run();  // warm-up: builds kernels
-      ctx.finish();
-      double best = 1e30;
-      for (int rep = 0; rep < 3; ++rep) {
-        const auto t0 = std::chrono::steady_clock::now();
-        run();
-        ctx.finish();
-        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-      }
-      return best;
+      return ProbeCache::time_best_of_three(
+          ctx, [&] { g.run(Op::N, Op::N, m, n, k, 1.0f, mat(*a, k), mat(*b, n), 0.0f, mat(*c, n)); });
     } catch (const std::exception&) {
       return 1e30;  // a candidate that fails to build or run here simply loses
     }
   };
-  bool measured = false;
   GemmPlan best = candidates.front();
   double best_s = 1e30;
-  for (const auto& plan : candidates) {
-    const std::string name = to_string(plan);
-    if (!times.contains(name) || !times[name].is_number()) {
-      times[name] = time_of(plan);
-      measured = true;
-    }
-    if (const double s = times[name].get<double>(); s < best_s) {
+  for (const auto& plan : candidates)
+    if (const double s = cache.seconds(to_string(plan), [&] { return time_of(plan); }); s < best_s) {
       best_s = s;
       best = plan;
     }
-  }
-  if (measured && !file.empty()) {
-    try {
-      write_text_atomically(file, cache.dump(2) + "\n");
-    } catch (const std::exception&) {
-      // best effort: an unwritable cache only costs a re-probe next time
-    }
-  }
   return best;
 }
 

@@ -5,6 +5,8 @@
 #include <random>
 #include <stdexcept>
 
+#include "nn/probe_cache.hpp"
+
 namespace clr::nn {
 namespace {
 constexpr unsigned kBwdNone = 0, kBwdRelu = 1, kBwdAbs = 2;  // BWD_* in kernels/mlp.cl
@@ -35,14 +37,33 @@ Mlp::Mlp(cl::Context& ctx, Gemm& gemm, MlpConfig config, std::uint64_t seed)
   }
   params_ = cl::Buffer<float>(ctx, std::span<const float>(host));
   const auto& c = config_;
-  if (c.fused_small && c.width % 16 == 0 && c.width <= 64 && c.outputs % 16 == 0 && c.outputs <= 64 &&
-      c.hidden_layers >= 1 && c.hidden_layers <= 4 && c.output_activation == OutputActivation::None) {
+  if (c.small_path != MlpConfig::SmallPath::Layers && c.width % 16 == 0 && c.width <= 64 && c.outputs % 16 == 0 &&
+      c.outputs <= 64 && c.hidden_layers >= 1 && c.hidden_layers <= 4 &&
+      c.output_activation == OutputActivation::None) {
     const std::string options = "-DIN=" + std::to_string(c.inputs) + " -DWIDTH=" + std::to_string(c.width) +
                                 " -DHIDDEN=" + std::to_string(c.hidden_layers) + " -DOUT=" + std::to_string(c.outputs);
     fused_.emplace(ctx.program({"mlp_fused.cl"}, options).kernel("mlp_fused_forward"));
   }
   grads_ = cl::Buffer<float>(ctx, total);
   grads_.fill(0.0f);
+  if (fused_ && c.small_path == MlpConfig::SmallPath::Probe) {
+    // A training forward of a batch-sized input (activations kept, as the I-Module's step runs it) on both paths.
+    ProbeCache cache(ctx);
+    const std::string shape = std::to_string(c.inputs) + "-" + std::to_string(c.width) + "x" +
+                              std::to_string(c.hidden_layers) + "-" + std::to_string(c.outputs);
+    constexpr std::size_t rows = 16384;
+    std::optional<cl::Buffer<float>> x;
+    MlpContext probe;
+    const auto time_of = [&] {
+      if (!x) x.emplace(ctx, std::span<const float>(std::vector<float>(rows * c.inputs, 0.1f)));
+      return ProbeCache::time_best_of_three(ctx, [&] { forward_train(*x, rows, probe); });
+    };
+    const double fused_s = cache.seconds("mlp fused " + shape, time_of);
+    auto kept = std::move(fused_);
+    fused_.reset();
+    const double layers_s = cache.seconds("mlp layers " + shape + " " + to_string(gemm.plan()), time_of);
+    if (fused_s <= layers_s) fused_ = std::move(kept);
+  }
 }
 
 std::size_t Mlp::fan_in(std::size_t layer) const { return layer == 0 ? config_.inputs : config_.width; }

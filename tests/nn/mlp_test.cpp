@@ -106,6 +106,7 @@ nn::MlpConfig cfg(std::size_t in, std::size_t width, std::size_t hidden, std::si
   c.outputs = out;
   c.output_activation = act;
   c.max_chunk_rows = chunk;
+  c.small_path = nn::MlpConfig::SmallPath::Fused;  // the fused kernel wherever it applies, so both paths are tested
   return c;
 }
 
@@ -125,7 +126,7 @@ TEST_F(ClTest, FusedSmallMlpMatchesLayerPath) {
   nn::Gemm gemm(ctx(), nn::GemmChoice::Own);
   auto c = cfg(59, 64, 3, 32, nn::OutputActivation::None);
   nn::Mlp fused(ctx(), gemm, c, 4);
-  c.fused_small = false;
+  c.small_path = nn::MlpConfig::SmallPath::Layers;
   nn::Mlp layered(ctx(), gemm, c, 4);
   ASSERT_TRUE(fused.fused());
   ASSERT_FALSE(layered.fused());

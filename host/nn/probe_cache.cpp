@@ -1,0 +1,79 @@
+#include "nn/probe_cache.hpp"
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "cl/error.hpp"
+#include "common/atomic_file.hpp"
+
+namespace clr::nn {
+namespace {
+
+std::string device_driver(const cl::Context& ctx) {
+  std::size_t n = 0;
+  CLR_CL_CHECK(clGetDeviceInfo(ctx.device().device, CL_DRIVER_VERSION, 0, nullptr, &n));
+  std::string s(n, '\0');
+  CLR_CL_CHECK(clGetDeviceInfo(ctx.device().device, CL_DRIVER_VERSION, n, s.data(), nullptr));
+  return s.c_str();
+}
+
+std::string cache_file() {
+  std::filesystem::path dir;
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
+    dir = x;
+  else if (const char* h = std::getenv("HOME"); h && *h)
+    dir = std::filesystem::path(h) / ".cache";
+  else
+    return {};
+  return (dir / "clradiosity" / "gemm_probe.json").string();
+}
+
+}  // namespace
+
+ProbeCache::ProbeCache(const cl::Context& ctx)
+    : file_(cache_file()), key_(ctx.device().platform_name + " | " + ctx.device().name + " | " + device_driver(ctx)) {
+  if (file_.empty()) return;
+  std::ifstream in(file_);
+  try {
+    if (in) cache_ = nlohmann::json::parse(in);
+    if (!cache_.is_object() || (cache_.contains(key_) && !cache_[key_].is_object())) cache_ = nlohmann::json::object();
+  } catch (const std::exception&) {
+    cache_ = nlohmann::json::object();
+  }
+}
+
+double ProbeCache::seconds(const std::string& candidate, const std::function<double()>& measure) {
+  nlohmann::json& times = cache_[key_];
+  if (times.is_null()) times = nlohmann::json::object();
+  if (!times.contains(candidate) || !times[candidate].is_number()) {
+    times[candidate] = measure();
+    measured_ = true;
+  }
+  return times[candidate].get<double>();
+}
+
+ProbeCache::~ProbeCache() {
+  if (!measured_ || file_.empty()) return;
+  try {
+    write_text_atomically(file_, cache_.dump(2) + "\n");
+  } catch (const std::exception&) {
+    // best effort: an unwritable cache only costs a re-probe next time
+  }
+}
+
+double ProbeCache::time_best_of_three(const cl::Context& ctx, const std::function<void()>& run) {
+  run();  // warm-up: builds kernels, grows buffers
+  ctx.finish();
+  double best = 1e30;
+  for (int rep = 0; rep < 3; ++rep) {
+    const auto t0 = std::chrono::steady_clock::now();
+    run();
+    ctx.finish();
+    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  return best;
+}
+
+}  // namespace clr::nn
