@@ -7,15 +7,13 @@
 
 namespace clr::radiosity {
 
-ResidualStats measure_residual(cl::Context& ctx, const geometry::Geometry& geometry, nn::Network& network,
-                               std::size_t points, std::size_t samples, std::uint64_t seed, nn::Network* guide,
-                               float bsdf_fraction) {
+void estimate_rhs(cl::Context& ctx, const geometry::Geometry& geometry, nn::Network& network, std::size_t points,
+                  std::size_t samples, std::uint64_t seed, nn::Network* guide, float bsdf_fraction,
+                  const std::function<void(const RhsPoint&)>& visit) {
   const geometry::SurfaceSampler sampler(geometry.scene());
-  // Chunks of points bound the host and device memory whatever P·S is.
   const std::size_t chunk = std::max<std::size_t>(1, std::min<std::size_t>(points, (1u << 18) / samples));
   IncidentSampling incident(ctx);
   TrainingBatch batch;
-  double sum = 0, sum_sq = 0, variance = 0;
   std::size_t done = 0;
   for (std::uint64_t c = 0; done < points; ++c) {
     BatchSettings settings{std::min(chunk, points - done), samples, 8, guide ? bsdf_fraction : 1.0f};
@@ -36,7 +34,7 @@ ResidualStats measure_residual(cl::Context& ctx, const geometry::Geometry& geome
     const auto L = radiance.read(), p = pred.read();
     const auto pdf = incident.pdf.read();
     for (std::size_t m = 0; m < M; ++m) {
-      double r2 = 0, var = 0;
+      RhsPoint point;
       for (std::size_t ch = 0; ch < 3; ++ch) {
         double s1 = 0, s2 = 0;
         for (std::size_t n = 0; n < samples; ++n) {
@@ -48,16 +46,33 @@ ResidualStats measure_residual(cl::Context& ctx, const geometry::Geometry& geome
           s1 += term;
           s2 += term * term;
         }
-        const double rhs = s1 / double(samples);
-        r2 += std::pow(double(p[3 * m + ch]) - rhs, 2) / 3.0;
-        if (samples > 1) var += std::max(0.0, s2 - double(samples) * rhs * rhs) / double(samples - 1) / 3.0;
+        point.prediction[ch] = p[3 * m + ch];
+        point.mean[ch] = s1 / double(samples);
+        point.variance[ch] =
+            samples > 1 ? std::max(0.0, s2 - double(samples) * point.mean[ch] * point.mean[ch]) / double(samples - 1)
+                        : 0.0;
       }
-      sum += r2;
-      sum_sq += r2 * r2;
-      variance += var;
+      visit(point);
     }
     done += M;
   }
+}
+
+ResidualStats measure_residual(cl::Context& ctx, const geometry::Geometry& geometry, nn::Network& network,
+                               std::size_t points, std::size_t samples, std::uint64_t seed, nn::Network* guide,
+                               float bsdf_fraction) {
+  double sum = 0, sum_sq = 0, variance = 0;
+  std::size_t done = 0;
+  estimate_rhs(ctx, geometry, network, points, samples, seed, guide, bsdf_fraction, [&](const RhsPoint& p) {
+    double r2 = 0;
+    for (std::size_t ch = 0; ch < 3; ++ch) {
+      r2 += std::pow(p.prediction[ch] - p.mean[ch], 2) / 3.0;
+      variance += p.variance[ch] / 3.0;
+    }
+    sum += r2;
+    sum_sq += r2 * r2;
+    ++done;
+  });
   ResidualStats s;
   s.points = done;
   s.mean = sum / double(done);

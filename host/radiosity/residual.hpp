@@ -5,6 +5,9 @@
 // integral (E[r̂²] = r² + Var/S), as the paper's does. The samples come from the BSDF, or — given an I-Module —
 // from the one-sample mixture training uses, so that the variance of one sample's estimate of the right-hand side
 // (`rhs_variance`) shows what the guide does for the estimator with the N-Module held fixed.
+#include <array>
+#include <functional>
+
 #include "nn/network.hpp"
 #include "radiosity/training_batch.hpp"
 
@@ -16,6 +19,19 @@ struct ResidualStats {
   double rhs_variance = 0;  // mean over points and RGB of the variance of a one-sample RHS estimate
   std::size_t points = 0;
 };
+
+// One point's S-sample estimate of the right-hand side: the model's prediction, the mean of the per-sample terms
+// and their sample variance, per RGB channel.
+struct RhsPoint {
+  std::array<double, 3> prediction, mean, variance;
+};
+
+// Visits P random (x, ω_o) points' estimates, in chunks that bound memory whatever P·S is. Points depend only on
+// (seed, index): the same points under either sampling. `guide` null: BSDF sampling; else the mixture with BSDF
+// share `bsdf_fraction`.
+void estimate_rhs(cl::Context& ctx, const geometry::Geometry& geometry, nn::Network& network, std::size_t points,
+                  std::size_t samples, std::uint64_t seed, nn::Network* guide, float bsdf_fraction,
+                  const std::function<void(const RhsPoint&)>& visit);
 
 // `guide` null: BSDF sampling; else the mixture with BSDF share `bsdf_fraction`.
 ResidualStats measure_residual(cl::Context& ctx, const geometry::Geometry& geometry, nn::Network& network,
