@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
 #include "geometry/geometry.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/scene.hpp"
@@ -26,7 +27,7 @@ Command add_reference_command(CLI::App& app) {
          "--max-depth", [opt](const int& d) { opt->render.max_depth = d; },
          "Longest path in segments; -1: unbounded (default: the scene integrator's max_depth, else -1)")
       ->check(CLI::Range(-1, 1 << 20));
-  cmd->add_option("--seed", opt->render.seed, "Random seed");
+  cmd->add_option("--seed", opt->render.seed, "Random seed")->check(integer_at_least(0));
   cmd->add_option("-o,--output", opt->output, "Output EXR")->required();
 
   return {cmd, [opt]() {

@@ -6,6 +6,7 @@
 
 #include "cl/context.hpp"
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
 #include "common/error.hpp"
 #include "geometry/geometry.hpp"
 #include "image/image.hpp"
@@ -31,11 +32,12 @@ Command add_render_command(CLI::App& app) {
       ->check(CLI::Range(1, 1 << 15));
   cmd->add_option("--height", opt->settings.height, "Image height (default: the scene's film)")
       ->check(CLI::Range(1, 1 << 15));
-  cmd->add_option("--seed", opt->settings.seed, "Random seed of the camera rays");
+  cmd->add_option("--seed", opt->settings.seed, "Random seed of the camera rays")->check(integer_at_least(0));
   cmd->add_option("--camera", opt->camera,
                   "Another view: origin, target, up and vertical fov in degrees, as 10 comma-separated numbers")
       ->delimiter(',')
-      ->expected(10);
+      ->expected(10)
+      ->check(finite_number());
   cmd->add_option("--reference", opt->reference, "Print MAPE/MSE/relMSE against this EXR and write an error map");
   cmd->add_option("--error-map", opt->error_map, "Error map path (default: OUT with _error.png)");
   add_device_option(*cmd, opt->device);

@@ -5,6 +5,7 @@
 
 #include "cl/context.hpp"
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
 #include "geometry/geometry.hpp"
 #include "radiosity/residual.hpp"
 #include "radiosity/trained_model.hpp"
@@ -25,7 +26,7 @@ Command add_residual_command(CLI::App& app) {
   cmd->add_option("--model", opt->model, "Run directory written by `train` (or a model.clr file)")->required();
   cmd->add_option("--points", opt->points, "Random (x, ω_o) points (default 65536)")->check(CLI::Range(1, 1 << 24));
   cmd->add_option("--samples", opt->samples, "BSDF samples per point (default 256)")->check(CLI::Range(1, 1 << 16));
-  cmd->add_option("--seed", opt->seed, "Random seed");
+  cmd->add_option("--seed", opt->seed, "Random seed")->check(integer_at_least(0));
   cmd->add_flag("--json", opt->json, "Print one JSON object");
   add_device_option(*cmd, opt->device);
 

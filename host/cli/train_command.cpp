@@ -4,6 +4,7 @@
 
 #include "cl/context.hpp"
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
 #include "common/error.hpp"
 #include "geometry/geometry.hpp"
 #include "radiosity/trainer.hpp"
@@ -25,12 +26,19 @@ Command add_train_command(CLI::App& app) {
   cmd->add_option("scene", opt->scene, "Mitsuba scene (XML)")->required();
   cmd->add_option("-o,--output", opt->run_dir, "Run directory (config.json, log.csv, model.clr)")->required();
   cmd->add_option("--method", opt->method, "nr (vanilla Neural Radiosity)")->check(CLI::IsMember({"nr"}));
-  cmd->add_option("--samples", opt->samples, "Incident directions per point (N, default 4)");
-  cmd->add_option("--batch", opt->batch, "Points per step (M; default chosen for the device)");
-  auto* steps = cmd->add_option("--steps", opt->steps, "Stop after this many steps (in total, when resuming)");
-  cmd->add_option("--minutes", opt->minutes, "Stop after this much training time in this session")->excludes(steps);
-  cmd->add_option("--seed", opt->seed, "Random seed");
-  cmd->add_option("--learning-rate", opt->learning_rate, "Adam learning rate (default 5e-3, ISNR §4.3)");
+  cmd->add_option("--samples", opt->samples, "Incident directions per point (N, default 4)")
+      ->check(CLI::Range(1, 1024));
+  // 0 means "chosen for the device" in a config file only: on the command line it is a mistake, not a request.
+  cmd->add_option("--batch", opt->batch, "Points per step (M; default chosen for the device)")
+      ->check(CLI::Range(1, 1 << 22));
+  auto* steps = cmd->add_option("--steps", opt->steps, "Stop after this many steps (in total, when resuming)")
+                    ->check(integer_at_least(1));
+  cmd->add_option("--minutes", opt->minutes, "Stop after this much training time in this session")
+      ->check(positive_finite())
+      ->excludes(steps);
+  cmd->add_option("--seed", opt->seed, "Random seed")->check(integer_at_least(0));
+  cmd->add_option("--learning-rate", opt->learning_rate, "Adam learning rate (default 5e-3, ISNR §4.3)")
+      ->check(finite_in(0, 1, true));
   cmd->add_option("--residual", opt->residual,
                   "relative (default; fades to l2 by the end of the budget, see relative_fade_end) or l2")
       ->check(CLI::IsMember({"relative", "l2"}));

@@ -8,6 +8,7 @@ image::Image render(const geometry::Geometry& geometry, const RadianceQuery& fie
   const scene::Camera& camera = geometry.scene().camera;
   const int width = settings.width > 0 ? settings.width : camera.width;
   const int height = settings.height > 0 ? settings.height : camera.height;
+  image::check_image_size(width, height, "--width × --height");
   const std::size_t spp = std::size_t(std::max(1, settings.spp)), R = nn::kRawInputs;
   image::Image img(width, height);
 

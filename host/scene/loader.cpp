@@ -1,9 +1,11 @@
 // Mitsuba XML → Scene. Plugins are built as their elements are met (document order), ids are global across
 // <include>d files, and anything clradiosity does not model is refused with the element's file and line rather
 // than silently rendered wrong.
+#include <cmath>
 #include <set>
 
 #include "common/error.hpp"
+#include "image/image.hpp"
 #include "scene/bsdfs.hpp"
 #include "scene/named_ior.hpp"
 #include "scene/scene.hpp"
@@ -69,6 +71,8 @@ class Props {
     const Node& n = expect(name, {"integer"});
     const float v = n.number("value");
     if (v != std::floor(v)) n.fail("expected an integer");
+    // Converting a float outside int's range is undefined behaviour, not a large number.
+    if (!(std::fabs(v) < 2147483648.0f)) n.fail("integer out of range");
     return int(v);
   }
   bool boolean(const std::string& name, bool fallback) const {
@@ -491,8 +495,11 @@ class Loader {
       const Props f(o);
       c.width = f.integer("width", 768);
       c.height = f.integer("height", 576);
-      if (c.width <= 0 || c.height <= 0 || c.width > 65536 || c.height > 65536)
-        o.fail("film size must be positive and at most 65536");
+      try {
+        image::check_image_size(c.width, c.height, "film");
+      } catch (const InputError& e) {
+        o.fail(e.what());
+      }
     }
   }
 
