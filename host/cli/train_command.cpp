@@ -6,6 +6,7 @@
 #include "cli/command.hpp"
 #include "cli/number_checks.hpp"
 #include "common/error.hpp"
+#include "common/run_lock.hpp"
 #include "geometry/geometry.hpp"
 #include "radiosity/trainer.hpp"
 #include "scene/scene.hpp"
@@ -68,6 +69,7 @@ Command add_train_command(CLI::App& app) {
             const auto scene = scene::load_scene(opt->scene);
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
+            const RunLock lock(opt->run_dir);  // held until the run ends: one writer per RUN_DIR
             radiosity::Trainer trainer(ctx, geometry, config, opt->run_dir, opt->resume);
             std::cerr << "train: " << opt->scene << " on " << ctx.device().describe() << ", batch "
                       << trainer.config().batch << " × " << trainer.config().samples << " samples, "
