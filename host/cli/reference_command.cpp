@@ -32,6 +32,8 @@ Command add_reference_command(CLI::App& app) {
 
   return {cmd, [opt]() {
             const scene::Scene scene = scene::load_scene(opt->scene);
+            scene::require_sensor(scene, opt->scene);
+            scene::require_emitter(scene, opt->scene);
             const geometry::Geometry geometry(scene);
             reference::RenderStats stats;
             const auto img = reference::render(geometry, opt->render, &stats);

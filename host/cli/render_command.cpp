@@ -44,6 +44,7 @@ Command add_render_command(CLI::App& app) {
 
   return {cmd, [opt]() {
             auto scene = scene::load_scene(opt->scene);
+            if (opt->camera.empty()) scene::require_sensor(scene, opt->scene);
             if (!opt->camera.empty()) {
               const auto& c = opt->camera;
               const glm::vec3 origin(c[0], c[1], c[2]), target(c[3], c[4], c[5]), up(c[6], c[7], c[8]);

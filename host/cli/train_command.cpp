@@ -67,6 +67,7 @@ Command add_train_command(CLI::App& app) {
             if (config.steps == 0 && config.minutes == 0) throw InputError("give a budget: --steps S or --minutes T");
 
             const auto scene = scene::load_scene(opt->scene);
+            scene::require_emitter(scene, opt->scene);
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
             const RunLock lock(opt->run_dir);  // held until the run ends: one writer per RUN_DIR

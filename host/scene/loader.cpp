@@ -470,6 +470,7 @@ class Loader {
     if (n.attr("type") != "perspective") n.fail("unsupported sensor type '" + n.attr("type") + "' (perspective)");
     if (sensor_seen_) n.fail("a scene has one sensor");
     sensor_seen_ = true;
+    scene_.has_sensor = true;
     Camera& c = scene_.camera;
     if (!p.has("fov")) n.fail("the perspective sensor needs a 'fov'");
     c.fov_degrees = p.number("fov", 45.0f);
@@ -520,6 +521,19 @@ class Loader {
 
 Scene load_scene(const std::filesystem::path& path, const std::map<std::string, std::string>& parameters) {
   return Loader(parameters).load(path);
+}
+
+void require_emitter(const Scene& scene, const std::filesystem::path& path) {
+  if (scene.environment) return;
+  for (const auto& s : scene.shapes)
+    if (s.is_emitter()) return;
+  throw InputError(path.string() +
+                   ": the scene has no emitter (an area emitter in a shape, or an environment): "
+                   "every radiance would be zero");
+}
+
+void require_sensor(const Scene& scene, const std::filesystem::path& path) {
+  if (!scene.has_sensor) throw InputError(path.string() + ": the scene has no <sensor> to render from");
 }
 
 }  // namespace clr::scene
