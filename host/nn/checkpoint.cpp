@@ -129,7 +129,8 @@ Checkpoint read_checkpoint(const std::string& path) {
   for (std::uint32_t i = 0; i < n; ++i) {
     auto name = r.get_str("tensor name");
     const auto count = r.get<std::uint64_t>("tensor size");
-    r.need(count * sizeof(float), "tensor values");
+    // Divided, not multiplied: count · 4 wraps around for a hostile count and would pass the check.
+    if (count > std::uint64_t(r.end - r.p) / sizeof(float)) r.fail("truncated payload while reading tensor values");
     std::vector<float> v(count);
     std::memcpy(v.data(), r.p, count * sizeof(float));
     r.p += count * sizeof(float);
