@@ -4,6 +4,7 @@
 
 #include "cli/command.hpp"
 #include "cli/number_checks.hpp"
+#include "common/atomic_file.hpp"
 #include "geometry/geometry.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/scene.hpp"
@@ -31,6 +32,7 @@ Command add_reference_command(CLI::App& app) {
   cmd->add_option("-o,--output", opt->output, "Output EXR")->required();
 
   return {cmd, [opt]() {
+            require_output_path(opt->output, "-o");
             const scene::Scene scene = scene::load_scene(opt->scene);
             scene::require_sensor(scene, opt->scene);
             scene::require_emitter(scene, opt->scene);

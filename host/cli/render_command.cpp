@@ -7,6 +7,7 @@
 #include "cl/context.hpp"
 #include "cli/command.hpp"
 #include "cli/number_checks.hpp"
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "geometry/geometry.hpp"
 #include "image/image.hpp"
@@ -43,6 +44,9 @@ Command add_render_command(CLI::App& app) {
   add_device_option(*cmd, opt->device);
 
   return {cmd, [opt]() {
+            require_output_path(opt->output, "-o");
+            if (!opt->png.empty()) require_output_path(opt->png, "--png");
+            if (!opt->error_map.empty()) require_output_path(opt->error_map, "--error-map");
             auto scene = scene::load_scene(opt->scene);
             if (opt->camera.empty()) scene::require_sensor(scene, opt->scene);
             if (!opt->camera.empty()) {

@@ -58,6 +58,11 @@ void write_atomically(const fs::path& requested, const std::function<void(const 
   write_then(tmp, write, [&] { fs::rename(tmp, path); });
 }
 
+void require_output_path(const fs::path& path, const std::string& option) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InputError(option + ": output " + path.string() + " is a directory");
+}
+
 void write_text_atomically(const fs::path& path, std::string_view text) {
   write_atomically(path, [&](const fs::path& tmp) {
     std::ofstream out(tmp, std::ios::binary);

@@ -18,4 +18,8 @@ void write_atomically(const std::filesystem::path& path,
                       const std::function<void(const std::filesystem::path&)>& write);
 void write_text_atomically(const std::filesystem::path& path, std::string_view text);
 
+// InputError "<option>: <path> is a directory" when an output cannot be written there. Commands check their
+// outputs before the work that produces them, so a typo does not cost a whole render.
+void require_output_path(const std::filesystem::path& path, const std::string& option);
+
 }  // namespace clr

@@ -14,12 +14,18 @@ std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesyste
   } catch (const nlohmann::json::exception& e) {
     throw InputError("checkpoint " + checkpoint.string() + ": malformed network config: " + e.what());
   }
-  const nn::NetworkConfig network_config = nn::network_config_from_json(config);
-  // The stored config decides what is allocated on the device; the file must hold the parameters it describes,
-  // so a damaged or hostile config cannot ask for more memory than the file's own size.
-  for (const auto& [name, count] : {std::pair{"mlp.params", nn::mlp_parameter_count(network_config)},
-                                    std::pair{"grid.table", nn::grid_parameter_count(network_config)}})
-    if (count) c.tensor(checkpoint.string(), name, count);
+  nn::NetworkConfig network_config;
+  try {
+    network_config = nn::network_config_from_json(config);
+    // The stored config decides what is allocated on the device; the file must hold the parameters it describes,
+    // so a damaged or hostile config cannot ask for more memory than the file's own size.
+    for (const auto& [name, count] : {std::pair{"mlp.params", nn::mlp_parameter_count(network_config)},
+                                      std::pair{"grid.table", nn::grid_parameter_count(network_config)}})
+      if (count) c.tensor(checkpoint.string(), name, count);
+  } catch (const InputError& e) {
+    const std::string what = e.what(), prefix = "checkpoint " + checkpoint.string();
+    throw InputError(what.starts_with(prefix) ? what : prefix + ": " + what);
+  }
   auto network = std::make_unique<nn::Network>(ctx, network_config);
   network->load(checkpoint.string());
   return network;

@@ -412,6 +412,12 @@ class Loader {
     // Mitsuba gives meshes without normals smooth ones unless face_normals asks for flat shading.
     else if (file_mesh && s.mesh.normals.empty())
       s.mesh.compute_vertex_normals();
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!std::isfinite(to_world[c][r])) n.fail("the to_world transform is not finite (it overflows)");
+    // A singular to_world (a zero scale) flattens the mesh and leaves its normals undefined.
+    if (!(std::fabs(glm::determinant(glm::mat3(to_world))) > 0))
+      n.fail("the to_world transform is singular (a zero scale?)");
     s.mesh.transform(to_world);
     if (p.boolean("flip_normals", false)) s.mesh.flip();
     s.mesh.validate(n.where());
