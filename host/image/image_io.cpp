@@ -36,6 +36,7 @@ void check_image_size(long long width, long long height, const std::string& what
 
 Image read_exr(const fs::path& path) {
   if (!fs::exists(path)) throw InputError("image file not found: " + path.string());
+  if (!fs::is_regular_file(path)) throw InputError("image file is not a regular file: " + path.string());
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
@@ -102,6 +103,7 @@ void write_png(const fs::path& path, const Image& img, float exposure) {
 
 Image read_ldr(const fs::path& path, bool srgb) {
   if (!fs::exists(path)) throw InputError("image file not found: " + path.string());
+  if (!fs::is_regular_file(path)) throw InputError("image file is not a regular file: " + path.string());
   int w = 0, h = 0, n = 0;
   // The header first: stb would otherwise allocate whatever size it announces (up to 1 GiB) before decoding.
   if (!stbi_info(path.c_str(), &w, &h, &n))

@@ -102,6 +102,8 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
 Checkpoint read_checkpoint(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("checkpoint " + path + ": cannot open the file");
+  // A device (/dev/zero) or FIFO would be read until memory runs out.
+  if (!std::filesystem::is_regular_file(path)) throw InputError("checkpoint " + path + ": not a regular file");
   const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (data.size() < kHeader)
     throw InputError("checkpoint " + path + ": truncated header (" + std::to_string(data.size()) + " bytes)");

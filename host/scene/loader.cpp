@@ -133,6 +133,14 @@ class Loader {
     including_.erase(canonical);
   }
 
+  // Files a scene names must be regular files: a device such as /dev/zero, or a FIFO, would be read forever.
+  static void require_file(const Node& n, const std::filesystem::path& f, const std::string& what) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(f, ec);
+    if (!std::filesystem::exists(status)) n.fail(what + " '" + f.string() + "' not found");
+    if (!std::filesystem::is_regular_file(status)) n.fail(what + " '" + f.string() + "' is not a regular file");
+  }
+
   std::filesystem::path resolve(const Node& n, const std::string& file) const {
     const std::filesystem::path p(file);
     return p.is_absolute() ? p : n.source->path.parent_path() / p;
@@ -150,7 +158,7 @@ class Loader {
         params_.try_emplace(c.attr("name"), c.attr("value"));
       } else if (t == "include") {
         const auto file = resolve(c, c.attr("filename"));
-        if (!std::filesystem::exists(file)) c.fail("included file '" + file.string() + "' not found");
+        require_file(c, file, "included file");
         load_file(file, &c);
       } else if (t == "bsdf") {
         bsdf(c);
@@ -197,7 +205,7 @@ class Loader {
     if (type == "bitmap") {
       if (!p.has("filename")) n.fail("missing property 'filename'");
       const auto file = resolve(n, p.string("filename", ""));
-      if (!std::filesystem::exists(file)) n.fail("texture file '" + file.string() + "' not found");
+      require_file(n, file, "texture file");
       const std::string filter = p.string("filter_type", "bilinear"), wrap = p.string("wrap_mode", "repeat");
       if (filter != "bilinear" && filter != "nearest") n.fail("unsupported filter_type '" + filter + "'");
       if (wrap != "repeat") n.fail("unsupported wrap_mode '" + wrap + "' (only repeat)");
@@ -375,7 +383,7 @@ class Loader {
     auto file = [&] {
       if (!p.has("filename")) n.fail("missing property 'filename'");
       const auto f = resolve(n, p.string("filename", ""));
-      if (!std::filesystem::exists(f)) n.fail("mesh file '" + f.string() + "' not found");
+      require_file(n, f, "mesh file");
       return f;
     };
     try {
@@ -455,7 +463,7 @@ class Loader {
     } else if (type == "envmap") {
       if (!p.has("filename")) n.fail("missing property 'filename'");
       const auto file = resolve(n, p.string("filename", ""));
-      if (!std::filesystem::exists(file)) n.fail("environment map '" + file.string() + "' not found");
+      require_file(n, file, "environment map");
       try {
         scene_.environment =
             std::make_unique<Environment>(Environment::envmap(file, p.number("scale", 1.0f), p.transform("to_world")));

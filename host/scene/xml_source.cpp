@@ -28,6 +28,8 @@ int Source::line_of(std::ptrdiff_t offset) const {
 std::unique_ptr<Source> parse_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in || std::filesystem::is_directory(path)) throw InputError(path.string() + ": scene file not found");
+  // A device (/dev/zero) or FIFO would be read until memory runs out.
+  if (!std::filesystem::is_regular_file(path)) throw InputError(path.string() + ": scene file is not a regular file");
   std::ostringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();

@@ -146,6 +146,8 @@ struct Case {
   int exit_code;
   std::string fragment;
 };
+// What gtest prints for a row (instead of its bytes).
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name << ": clradiosity " << c.args; }
 
 std::string reference(const std::string& scene) {
   return "reference '" + scene + "' --spp 1 --width 4 --height 4 -o '{t}/out.exr'";
@@ -194,6 +196,9 @@ const std::vector<Case>& cases() {
       scene_case("fov_180.xml", "fov must lie in (0, 180)"),
       scene_case("negative_radiance.xml", "radiance must be non-negative"),
       scene_case("missing_mesh.xml", "not found"),
+      generated_case("device_mesh.xml", "'/dev/zero' is not a regular file"),
+      generated_case("device_include.xml", "'/dev/zero' is not a regular file"),
+      {"device_scene", reference("/dev/zero"), 2, "scene file is not a regular file"},
       // OBJ
       generated_case("index_out_of_range.obj.xml", "vertex index is out of range"),
       generated_case("negative_index.obj.xml", "vertex index is out of range"),
@@ -260,6 +265,7 @@ const std::vector<Case>& cases() {
       train_case("config_learning_rate", "--steps 1 --config '{c}/config_learning_rate.json'", "'adam.learning_rate'"),
       train_case("config_incident_samples", "--steps 1 --config '{c}/config_incident_samples.json'", "batch × samples"),
       // checkpoints
+      {"checkpoint_device", "render '{box}' --model /dev/zero -o '{t}/out.exr'", 2, "not a regular file"},
       {"checkpoint_garbage", "render '{box}' --model '{t}/garbage_run' -o '{t}/out.exr'", 2, "bad magic"},
       {"checkpoint_truncated", "render '{box}' --model '{t}/truncated_run' -o '{t}/out.exr'", 2, "truncated"},
       {"checkpoint_hostile_config", "render '{box}' --model '{t}/hostile_run' -o '{t}/out.exr'", 2,
@@ -290,6 +296,9 @@ void generate(const fs::path& t) {
     if (ext == ".obj" || ext == ".ply")
       write(t / (e.path().filename().string() + ".xml"), mesh_scene(ext.substr(1), e.path()));
   }
+  // Files a scene names that would be read forever.
+  write(t / "device_mesh.xml", mesh_scene("obj", "/dev/zero"));
+  write(t / "device_include.xml", "<scene version=\"3.0.0\"><include filename=\"/dev/zero\"/></scene>");
   write(t / "garbage.obj", random_bytes(4096, 3));
   write(t / "garbage.obj.xml", mesh_scene("obj", t / "garbage.obj"));
 
