@@ -134,7 +134,7 @@ Checkpoint read_checkpoint(const std::string& path) {
     // Divided, not multiplied: count · 4 wraps around for a hostile count and would pass the check.
     if (count > std::uint64_t(r.end - r.p) / sizeof(float)) r.fail("truncated payload while reading tensor values");
     std::vector<float> v(count);
-    std::memcpy(v.data(), r.p, count * sizeof(float));
+    if (count) std::memcpy(v.data(), r.p, count * sizeof(float));  // an empty vector's data() may be null
     r.p += count * sizeof(float);
     c.tensors.emplace_back(std::move(name), std::move(v));
   }
