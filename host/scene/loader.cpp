@@ -459,7 +459,9 @@ class Loader {
     const std::string type = n.attr("type");
     if (scene_.environment) n.fail("a scene has at most one environment emitter");
     if (type == "constant") {
-      scene_.environment = std::make_unique<Environment>(Environment::constant(p.color("radiance", Rgb(1.0f))));
+      const Rgb radiance = p.color("radiance", Rgb(1.0f));
+      if (!(radiance.x >= 0 && radiance.y >= 0 && radiance.z >= 0)) n.fail("radiance must be non-negative");
+      scene_.environment = std::make_unique<Environment>(Environment::constant(radiance));
     } else if (type == "envmap") {
       if (!p.has("filename")) n.fail("missing property 'filename'");
       const auto file = resolve(n, p.string("filename", ""));

@@ -195,6 +195,7 @@ const std::vector<Case>& cases() {
       scene_case("degenerate_lookat.xml", "degenerate lookat"),
       scene_case("fov_180.xml", "fov must lie in (0, 180)"),
       scene_case("negative_radiance.xml", "radiance must be non-negative"),
+      scene_case("negative_environment.xml", "<emitter type=\"constant\">: radiance must be non-negative"),
       scene_case("missing_mesh.xml", "not found"),
       generated_case("device_mesh.xml", "'/dev/zero' is not a regular file"),
       generated_case("device_include.xml", "'/dev/zero' is not a regular file"),
