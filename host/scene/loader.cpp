@@ -100,6 +100,8 @@ class Props {
 };
 
 class Loader {
+  static constexpr std::size_t kMaxFiles = 1024;
+
  public:
   explicit Loader(const std::map<std::string, std::string>& parameters) : params_(parameters) {}
 
@@ -113,6 +115,10 @@ class Loader {
   void load_file(const std::filesystem::path& path, const Node* included_from) {
     const auto canonical = std::filesystem::weakly_canonical(path);
     if (!including_.insert(canonical).second) included_from->fail("recursive include of '" + path.string() + "'");
+    // Files that each include the next one twice are loaded 2^depth times without any recursion; every parsed
+    // file stays in memory (messages point into it). Real scenes include a handful.
+    if (included_from && sources_.size() >= kMaxFiles)
+      included_from->fail("more than " + std::to_string(kMaxFiles) + " files loaded through <include>");
     std::unique_ptr<xml::Source> src;
     try {
       src = xml::parse_file(path);

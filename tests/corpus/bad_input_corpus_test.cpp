@@ -179,6 +179,7 @@ const std::vector<Case>& cases() {
       scene_case("boolean_value.xml", "expected true or false"),
       scene_case("include_cycle_a.xml", "recursive include"),
       scene_case("include_self.xml", "recursive include"),
+      generated_case("include_doubling_0.xml", "files loaded through <include>"),
       scene_case("dangling_ref.xml", "unknown id 'nowhere'"),
       scene_case("laughs.xml", "after $parameter substitution"),
       scene_case("no_emitter.xml", "no emitter"),
@@ -245,6 +246,7 @@ const std::vector<Case>& cases() {
       train_case("train_minutes_inf", "--minutes inf", "--minutes"),
       train_case("train_seed_negative", "--steps 1 --seed -1", "--seed"),
       train_case("train_steps_huge", "--steps 99999999999999999999999", "--steps"),
+      {"train_run_dir_is_a_device", "train '{box}' --steps 1 -o /dev/null", 2, "exists and is not a directory"},
       {"render_spp_zero", "render '{box}' --model '{t}/none' --spp 0 -o '{t}/out.exr'", 2, "--spp"},
       {"render_width_negative", "render '{box}' --model '{t}/none' --width -4 -o '{t}/out.exr'", 2, "--width"},
       {"render_camera_nan", "render '{box}' --model '{t}/none' --camera 0,0,nan,0,0,1,0,1,0,40 -o '{t}/out.exr'", 2,
@@ -300,6 +302,16 @@ void generate(const fs::path& t) {
   // Files a scene names that would be read forever.
   write(t / "device_mesh.xml", mesh_scene("obj", "/dev/zero"));
   write(t / "device_include.xml", "<scene version=\"3.0.0\"><include filename=\"/dev/zero\"/></scene>");
+  // Each file includes the next twice: 2^40 loads, without any recursion.
+  constexpr int kDoublings = 40;
+  for (int i = 0; i < kDoublings; ++i) {
+    const std::string next = "include_doubling_" + std::to_string(i + 1) + ".xml";
+    write(t / ("include_doubling_" + std::to_string(i) + ".xml"),
+          "<scene version=\"3.0.0\">\n" +
+              (i + 1 < kDoublings ? "<include filename=\"" + next + "\"/><include filename=\"" + next + "\"/>\n"
+                                  : std::string()) +
+              "</scene>\n");
+  }
   write(t / "garbage.obj", random_bytes(4096, 3));
   write(t / "garbage.obj.xml", mesh_scene("obj", t / "garbage.obj"));
 
