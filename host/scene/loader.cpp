@@ -547,11 +547,12 @@ Scene load_scene(const std::filesystem::path& path, const std::map<std::string, 
 
 void require_emitter(const Scene& scene, const std::filesystem::path& path) {
   if (scene.environment) return;
+  // A shape whose triangles are all degenerate is a valid part of a scene (it is never hit), but no light.
   for (const auto& s : scene.shapes)
-    if (s.is_emitter()) return;
+    if (s.is_emitter() && s.mesh.area() > 0) return;
   throw InputError(path.string() +
-                   ": the scene has no emitter (an area emitter in a shape, or an environment): "
-                   "every radiance would be zero");
+                   ": the scene has no emitter (an area emitter on a shape of non-zero area, or an "
+                   "environment): every radiance would be zero");
 }
 
 void require_sensor(const Scene& scene, const std::filesystem::path& path) {

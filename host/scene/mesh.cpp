@@ -51,8 +51,6 @@ void Mesh::validate(const std::string& what) const {
   for (const auto& t : triangles)
     if (t.x >= positions.size() || t.y >= positions.size() || t.z >= positions.size())
       throw InputError(what + ": triangle index out of range");
-  // Nothing to hit or sample: the surface sampler would divide by a total area of 0.
-  if (!(area() > 0)) throw InputError(what + ": every triangle is degenerate (the mesh has zero area)");
 }
 
 double Mesh::area() const {

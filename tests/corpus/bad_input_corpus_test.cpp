@@ -206,7 +206,11 @@ const std::vector<Case>& cases() {
       generated_case("negative_index.obj.xml", "vertex index is out of range"),
       generated_case("nan_vertex.obj.xml", "'nan' is not a finite number"),
       generated_case("inf_vertex.obj.xml", "not finite"),
-      generated_case("degenerate.obj.xml", "zero area"),
+      generated_case("degenerate.obj.xml", "no emitter"),
+      // Degenerate meshes occur in real scenes (the shared staircase has one): never hit, never sampled, accepted.
+      generated_case("degenerate_beside_light.xml", "", 0),
+      {"train_degenerate_only", "train '{t}/degenerate_under_sky.xml' --steps 1 -o '{t}/run'", 2,
+       "no surface with a non-delta BSDF to sample"},
       generated_case("truncated.obj.xml", "no triangles"),
       generated_case("no_faces.obj.xml", "no triangles"),
       generated_case("garbage.obj.xml", "obj"),
@@ -312,6 +316,11 @@ void generate(const fs::path& t) {
                                   : std::string()) +
               "</scene>\n");
   }
+  const std::string degenerate =
+      "<shape type=\"obj\"><string name=\"filename\" value=\"" + (kCorpus / "degenerate.obj").string() + "\"/>";
+  write(t / "degenerate_beside_light.xml",
+        scene_around(degenerate + "</shape><shape type=\"rectangle\"><emitter type=\"area\"/></shape>"));
+  write(t / "degenerate_under_sky.xml", scene_around(degenerate + "</shape><emitter type=\"constant\"/>"));
   write(t / "garbage.obj", random_bytes(4096, 3));
   write(t / "garbage.obj.xml", mesh_scene("obj", t / "garbage.obj"));
 
