@@ -23,7 +23,7 @@ void check_coordinates(const std::filesystem::path& path) {
     std::string keyword, word;
     words >> keyword;
     if (keyword != "v" && keyword != "vn" && keyword != "vt") continue;
-    while (words >> word) {
+    while (words >> word && word[0] != '#') {  // a comment may end the line
       char* end = nullptr;
       const double v = std::strtod(word.c_str(), &end);
       if (end != word.c_str() + word.size() || !std::isfinite(v))
