@@ -70,7 +70,7 @@ Command add_train_command(CLI::App& app) {
             scene::require_emitter(scene, opt->scene);
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
-            const RunLock lock(opt->run_dir);  // held until the run ends: one writer per RUN_DIR
+            const RunLock lock(opt->run_dir, !opt->resume);  // held until the run ends: one writer per RUN_DIR
             radiosity::Trainer trainer(ctx, geometry, config, opt->run_dir, opt->resume);
             std::cerr << "train: " << opt->scene << " on " << ctx.device().describe() << ", batch "
                       << trainer.config().batch << " × " << trainer.config().samples << " samples, "

@@ -12,10 +12,12 @@
 
 namespace clr {
 
-RunLock::RunLock(const std::filesystem::path& dir) {
+RunLock::RunLock(const std::filesystem::path& dir, bool create) {
   std::error_code ec;
   if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
     throw InputError("run directory " + dir.string() + " exists and is not a directory");
+  if (!create && !std::filesystem::exists(dir, ec))
+    throw InputError("run directory " + dir.string() + " does not exist (no checkpoint to resume)");
   std::filesystem::create_directories(dir);
   fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd_ < 0) throw std::runtime_error("cannot open run directory " + dir.string() + ": " + std::strerror(errno));

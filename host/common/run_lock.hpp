@@ -11,8 +11,10 @@ namespace clr {
 
 class RunLock {
  public:
-  // Creates `dir` if needed and locks it; InputError naming the directory when another process holds it.
-  explicit RunLock(const std::filesystem::path& dir);
+  // Locks `dir`, creating it if `create` (a fresh run) and refusing a missing one otherwise (a resumed run: an
+  // empty directory left behind would only mislead). InputError naming the directory when another process
+  // holds it.
+  explicit RunLock(const std::filesystem::path& dir, bool create = true);
   ~RunLock();
   RunLock(const RunLock&) = delete;
   RunLock& operator=(const RunLock&) = delete;

@@ -44,6 +44,11 @@ TEST_F(RunLockTest, SecondHolderIsRefusedUntilTheFirstLetsGo) {
   EXPECT_NO_THROW(RunLock again(dir / "run"));
 }
 
+TEST_F(RunLockTest, ResumingAMissingRunLeavesNoDirectory) {
+  EXPECT_THROW(RunLock(dir / "missing", false), InputError);
+  EXPECT_FALSE(fs::exists(dir / "missing"));
+}
+
 TEST_F(RunLockTest, LockOfAKilledProcessIsReleased) {
   int ready[2];
   ASSERT_EQ(::pipe(ready), 0);
