@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/command.hpp"
+#include "common/atomic_file.hpp"
 #include "image/image.hpp"
 
 namespace clr::cli {
@@ -23,6 +24,7 @@ Command add_compare_command(CLI::App& app) {
   cmd->add_option("--error-map", opt->error_map, "Write a false-colour relative-error map (PNG; red = 100 %)");
 
   return {cmd, [opt]() {
+            if (!opt->error_map.empty()) require_output_path(opt->error_map, "--error-map");
             const auto img = image::read_exr(opt->image);
             const auto ref = image::match_size(image::read_exr(opt->reference), img);
             const auto m = image::compare(img, ref);

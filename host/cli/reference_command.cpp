@@ -3,6 +3,8 @@
 #include <iostream>
 
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
+#include "common/atomic_file.hpp"
 #include "geometry/geometry.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/scene.hpp"
@@ -26,11 +28,14 @@ Command add_reference_command(CLI::App& app) {
          "--max-depth", [opt](const int& d) { opt->render.max_depth = d; },
          "Longest path in segments; -1: unbounded (default: the scene integrator's max_depth, else -1)")
       ->check(CLI::Range(-1, 1 << 20));
-  cmd->add_option("--seed", opt->render.seed, "Random seed");
+  cmd->add_option("--seed", opt->render.seed, "Random seed")->check(integer_at_least(0));
   cmd->add_option("-o,--output", opt->output, "Output EXR")->required();
 
   return {cmd, [opt]() {
+            require_output_path(opt->output, "-o");
             const scene::Scene scene = scene::load_scene(opt->scene);
+            scene::require_sensor(scene, opt->scene);
+            scene::require_emitter(scene, opt->scene);
             const geometry::Geometry geometry(scene);
             reference::RenderStats stats;
             const auto img = reference::render(geometry, opt->render, &stats);

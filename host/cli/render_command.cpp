@@ -6,6 +6,8 @@
 
 #include "cl/context.hpp"
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "geometry/geometry.hpp"
 #include "image/image.hpp"
@@ -31,17 +33,22 @@ Command add_render_command(CLI::App& app) {
       ->check(CLI::Range(1, 1 << 15));
   cmd->add_option("--height", opt->settings.height, "Image height (default: the scene's film)")
       ->check(CLI::Range(1, 1 << 15));
-  cmd->add_option("--seed", opt->settings.seed, "Random seed of the camera rays");
+  cmd->add_option("--seed", opt->settings.seed, "Random seed of the camera rays")->check(integer_at_least(0));
   cmd->add_option("--camera", opt->camera,
                   "Another view: origin, target, up and vertical fov in degrees, as 10 comma-separated numbers")
       ->delimiter(',')
-      ->expected(10);
+      ->expected(10)
+      ->check(finite_number());
   cmd->add_option("--reference", opt->reference, "Print MAPE/MSE/relMSE against this EXR and write an error map");
   cmd->add_option("--error-map", opt->error_map, "Error map path (default: OUT with _error.png)");
   add_device_option(*cmd, opt->device);
 
   return {cmd, [opt]() {
+            require_output_path(opt->output, "-o");
+            if (!opt->png.empty()) require_output_path(opt->png, "--png");
+            if (!opt->error_map.empty()) require_output_path(opt->error_map, "--error-map");
             auto scene = scene::load_scene(opt->scene);
+            if (opt->camera.empty()) scene::require_sensor(scene, opt->scene);
             if (!opt->camera.empty()) {
               const auto& c = opt->camera;
               const glm::vec3 origin(c[0], c[1], c[2]), target(c[3], c[4], c[5]), up(c[6], c[7], c[8]);

@@ -5,6 +5,7 @@
 
 #include "cl/context.hpp"
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
 #include "geometry/geometry.hpp"
 #include "radiosity/residual.hpp"
 #include "radiosity/train_config.hpp"
@@ -31,8 +32,8 @@ Command add_residual_command(CLI::App& app) {
                   "bsdf (default) or guide: the one-sample mixture with the run's I-Module, as training draws them")
       ->check(CLI::IsMember({"bsdf", "guide"}));
   cmd->add_option("--bsdf-fraction", opt->bsdf_fraction, "BSDF share of the guided mixture (default: the run's)")
-      ->check(CLI::Range(1e-6, 1.0));
-  cmd->add_option("--seed", opt->seed, "Random seed");
+      ->check(finite_in(0, 1, true));
+  cmd->add_option("--seed", opt->seed, "Random seed")->check(integer_at_least(0));
   cmd->add_flag("--json", opt->json, "Print one JSON object");
   add_device_option(*cmd, opt->device);
 

@@ -4,7 +4,9 @@
 
 #include "cl/context.hpp"
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
 #include "common/error.hpp"
+#include "common/run_lock.hpp"
 #include "geometry/geometry.hpp"
 #include "radiosity/trainer.hpp"
 #include "scene/scene.hpp"
@@ -30,15 +32,23 @@ Command add_train_command(CLI::App& app) {
   cmd->add_option("--is-loss", opt->is_loss, "The I-Module's loss: ikl (Improved KL, default) or kl")
       ->check(CLI::IsMember({"ikl", "kl"}));
   cmd->add_option("--bsdf-fraction", opt->bsdf_fraction,
-                  "Share of incident directions drawn from the BSDF, the rest from the I-Module (isnr; default 0.5)");
-  cmd->add_option("--guide-learning-rate", opt->guide_learning_rate,
-                  "The I-Module's Adam learning rate (default 5e-3)");
-  cmd->add_option("--samples", opt->samples, "Incident directions per point (N, default 4)");
-  cmd->add_option("--batch", opt->batch, "Points per step (M; default chosen for the device)");
-  auto* steps = cmd->add_option("--steps", opt->steps, "Stop after this many steps (in total, when resuming)");
-  cmd->add_option("--minutes", opt->minutes, "Stop after this much training time in this session")->excludes(steps);
-  cmd->add_option("--seed", opt->seed, "Random seed");
-  cmd->add_option("--learning-rate", opt->learning_rate, "Adam learning rate (default 5e-3, ISNR §4.3)");
+                  "Share of incident directions drawn from the BSDF, the rest from the I-Module (isnr; default 0.5)")
+      ->check(finite_in(0, 1, true));
+  cmd->add_option("--guide-learning-rate", opt->guide_learning_rate, "The I-Module's Adam learning rate (default 5e-3)")
+      ->check(finite_in(0, 1, true));
+  cmd->add_option("--samples", opt->samples, "Incident directions per point (N, default 4)")
+      ->check(CLI::Range(1, 1024));
+  // 0 means "chosen for the device" in a config file only: on the command line it is a mistake, not a request.
+  cmd->add_option("--batch", opt->batch, "Points per step (M; default chosen for the device)")
+      ->check(CLI::Range(1, 1 << 22));
+  auto* steps = cmd->add_option("--steps", opt->steps, "Stop after this many steps (in total, when resuming)")
+                    ->check(integer_at_least(1));
+  cmd->add_option("--minutes", opt->minutes, "Stop after this much training time in this session")
+      ->check(positive_finite())
+      ->excludes(steps);
+  cmd->add_option("--seed", opt->seed, "Random seed")->check(integer_at_least(0));
+  cmd->add_option("--learning-rate", opt->learning_rate, "Adam learning rate (default 5e-3, ISNR §4.3)")
+      ->check(finite_in(0, 1, true));
   cmd->add_option("--residual", opt->residual,
                   "relative (default; fades to l2 by the end of the budget, see relative_fade_end) or l2")
       ->check(CLI::IsMember({"relative", "l2"}));
@@ -69,8 +79,10 @@ Command add_train_command(CLI::App& app) {
             if (config.steps == 0 && config.minutes == 0) throw InputError("give a budget: --steps S or --minutes T");
 
             const auto scene = scene::load_scene(opt->scene);
+            scene::require_emitter(scene, opt->scene);
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
+            const RunLock lock(opt->run_dir, !opt->resume);  // held until the run ends: one writer per RUN_DIR
             radiosity::Trainer trainer(ctx, geometry, config, opt->run_dir, opt->resume);
             std::cerr << "train: " << opt->scene << " on " << ctx.device().describe() << ", " << trainer.config().method
                       << ", batch " << trainer.config().batch << " × " << trainer.config().samples << " samples, "

@@ -1,6 +1,8 @@
 #pragma once
 // Linear RGB float images, EXR/PNG files and the metrics of DESIGN.md §4.
+#include <cstddef>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace clr::image {
@@ -16,6 +18,13 @@ struct Image {
   float* pixel(int x, int y) { return &rgb[(std::size_t(y) * std::size_t(width) + std::size_t(x)) * 3]; }
   const float* pixel(int x, int y) const { return &rgb[(std::size_t(y) * std::size_t(width) + std::size_t(x)) * 3]; }
 };
+
+// The most pixels an image that any command makes or reads may have: 2^27 (16384 × 8192, a 16K lat-long
+// environment map), 1.5 GiB as float RGB. A film, option or file header that announces more is refused as bad
+// input before anything is allocated, rather than failing in the allocator (or the OOM killer) halfway through.
+inline constexpr std::size_t kMaxPixels = std::size_t(1) << 27;
+// InputError "<what>: ..." unless width and height are ≥ 1 and width·height ≤ kMaxPixels.
+void check_image_size(long long width, long long height, const std::string& what);
 
 // RGB channels of an OpenEXR file (missing G/B replicate R; alpha ignored). InputError naming the file on failure.
 Image read_exr(const std::filesystem::path& path);

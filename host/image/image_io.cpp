@@ -24,11 +24,24 @@ float linear_to_srgb(float c) { return c <= 0.0031308f ? 12.92f * c : 1.055f * s
 
 }  // namespace
 
+void check_image_size(long long width, long long height, const std::string& what) {
+  if (width < 1 || height < 1)
+    throw InputError(what + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
+                     " is not positive");
+  // Divided rather than multiplied: width·height may not fit.
+  if (std::size_t(height) > kMaxPixels / std::size_t(width))
+    throw InputError(what + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
+                     " exceeds the limit of " + std::to_string(kMaxPixels) + " pixels");
+}
+
 Image read_exr(const fs::path& path) {
   if (!fs::exists(path)) throw InputError("image file not found: " + path.string());
+  if (!fs::is_regular_file(path)) throw InputError("image file is not a regular file: " + path.string());
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
+    // In 64 bits: a hostile header's window may span more than an int.
+    check_image_size(1LL + dw.max.x - dw.min.x, 1LL + dw.max.y - dw.min.y, "EXR " + path.string());
     const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
     const auto& channels = file.header().channels();
     // RGB, or a single luminance channel Y; a missing channel copies the first one.
@@ -90,7 +103,12 @@ void write_png(const fs::path& path, const Image& img, float exposure) {
 
 Image read_ldr(const fs::path& path, bool srgb) {
   if (!fs::exists(path)) throw InputError("image file not found: " + path.string());
+  if (!fs::is_regular_file(path)) throw InputError("image file is not a regular file: " + path.string());
   int w = 0, h = 0, n = 0;
+  // The header first: stb would otherwise allocate whatever size it announces (up to 1 GiB) before decoding.
+  if (!stbi_info(path.c_str(), &w, &h, &n))
+    throw InputError("cannot read image " + path.string() + ": " + stbi_failure_reason());
+  check_image_size(w, h, "image " + path.string());
   const bool wide = stbi_is_16_bit(path.c_str());
   std::unique_ptr<void, void (*)(void*)> data(wide ? static_cast<void*>(stbi_load_16(path.c_str(), &w, &h, &n, 3))
                                                    : static_cast<void*>(stbi_load(path.c_str(), &w, &h, &n, 3)),

@@ -102,6 +102,8 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
 Checkpoint read_checkpoint(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("checkpoint " + path + ": cannot open the file");
+  // A device (/dev/zero) or FIFO would be read until memory runs out.
+  if (!std::filesystem::is_regular_file(path)) throw InputError("checkpoint " + path + ": not a regular file");
   const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (data.size() < kHeader)
     throw InputError("checkpoint " + path + ": truncated header (" + std::to_string(data.size()) + " bytes)");
@@ -129,9 +131,10 @@ Checkpoint read_checkpoint(const std::string& path) {
   for (std::uint32_t i = 0; i < n; ++i) {
     auto name = r.get_str("tensor name");
     const auto count = r.get<std::uint64_t>("tensor size");
-    r.need(count * sizeof(float), "tensor values");
+    // Divided, not multiplied: count · 4 wraps around for a hostile count and would pass the check.
+    if (count > std::uint64_t(r.end - r.p) / sizeof(float)) r.fail("truncated payload while reading tensor values");
     std::vector<float> v(count);
-    std::memcpy(v.data(), r.p, count * sizeof(float));
+    if (count) std::memcpy(v.data(), r.p, count * sizeof(float));  // an empty vector's data() may be null
     r.p += count * sizeof(float);
     c.tensors.emplace_back(std::move(name), std::move(v));
   }

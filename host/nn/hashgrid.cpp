@@ -37,7 +37,8 @@ std::vector<HashGridLevel> hashgrid_levels(const HashGridConfig& c) {
   if (c.features != 1 && c.features != 2 && c.features != 4 && c.features != 8)
     throw InputError("hash grid: features per level must be 1, 2, 4 or 8");
   if (c.log2_table < 4 || c.log2_table > 26) throw InputError("hash grid: log2 table size must be in 4..26");
-  if (c.base_resolution < 1 || c.growth < 1.0) throw InputError("hash grid: base resolution ≥ 1 and growth ≥ 1");
+  // Negated so that a NaN growth fails too.
+  if (!(c.base_resolution >= 1 && c.growth >= 1.0)) throw InputError("hash grid: base resolution ≥ 1 and growth ≥ 1");
   const std::uint64_t T = std::uint64_t(1) << c.log2_table;
   std::vector<HashGridLevel> out;
   std::uint64_t offset = 0;

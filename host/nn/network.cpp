@@ -1,8 +1,12 @@
 #include "nn/network.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <iomanip>
+#include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include "common/error.hpp"
 #include "nn/checkpoint.hpp"
@@ -111,59 +115,135 @@ nlohmann::json to_json(const NetworkConfig& c) {
           {"seed", c.seed}};
 }
 
+namespace {
+
+// Throws InputError "network config entry '<name>' must be <rule>, got <value>" unless `ok`.
+template <typename T>
+void require(bool ok, const std::string& name, const T& value, const char* rule) {
+  if (ok) return;
+  std::ostringstream got;  // not JSON, which prints NaN and infinities as null
+  got << std::setprecision(9) << value;
+  throw InputError("network config entry '" + name + "' must be " + rule + ", got " + got.str());
+}
+
+// Values as the network uses them (after narrowing to float: 1e300 in the JSON is inf here). The bounds are the
+// ones past which a setting cannot be meant: they stop NaN, a zero width or an absurd allocation from reaching the
+// device, where it would fail late (exit 1) or silently train nothing.
+void validate(const NetworkConfig& c) {
+  if (c.encoder.grid) {
+    const auto& g = *c.encoder.grid;
+    // levels, features, log2_table and base_resolution are checked where the grid is laid out (hashgrid_levels).
+    require(std::isfinite(g.growth) && g.growth >= 1.0, "encoder.grid.growth", g.growth, "finite and >= 1");
+    for (int i = 0; i < 3; ++i) {
+      require(std::isfinite(g.bbox_lo[i]), "encoder.grid.bbox_lo", g.bbox_lo[i], "finite");
+      require(std::isfinite(g.bbox_hi[i]), "encoder.grid.bbox_hi", g.bbox_hi[i], "finite");
+      require(g.bbox_lo[i] < g.bbox_hi[i], "encoder.grid.bbox_hi", g.bbox_hi[i], "greater than bbox_lo on each axis");
+    }
+  }
+  // 4096² weights per layer (64 MiB with the Adam moments' twice that) is far past the paper's 512.
+  require(c.width >= 1 && c.width <= 4096, "width", c.width, "in [1, 4096]");
+  require(c.hidden_layers >= 1 && c.hidden_layers <= 64, "hidden_layers", c.hidden_layers, "in [1, 64]");
+  require(c.outputs >= 1 && c.outputs <= 4096, "outputs", c.outputs, "in [1, 4096]");
+  require(c.max_chunk_rows >= 1, "max_chunk_rows", c.max_chunk_rows, ">= 1");
+  const auto& a = c.adam;
+  // Adam moves each parameter by about the learning rate per step: above 1 nothing converges.
+  require(std::isfinite(a.learning_rate) && a.learning_rate > 0 && a.learning_rate <= 1, "adam.learning_rate",
+          a.learning_rate, "in (0, 1]");
+  // β = 1 would never forget the first gradient and divides by zero in the bias correction 1/(1 − β^t).
+  require(a.beta1 >= 0 && a.beta1 < 1, "adam.beta1", a.beta1, "in [0, 1)");
+  require(a.beta2 >= 0 && a.beta2 < 1, "adam.beta2", a.beta2, "in [0, 1)");
+  require(std::isfinite(a.epsilon) && a.epsilon > 0, "adam.epsilon", a.epsilon, "finite and > 0");
+  require(std::isfinite(a.weight_decay) && a.weight_decay >= 0, "adam.weight_decay", a.weight_decay, "finite and >= 0");
+  require(a.decay > 0 && a.decay <= 1, "adam.decay", a.decay, "in (0, 1]");
+  require(a.decay_interval >= 1, "adam.decay_interval", a.decay_interval, ">= 1");
+}
+
+}  // namespace
+
 NetworkConfig network_config_from_json(const nlohmann::json& j) {
   NetworkConfig c;
   std::string at;
   try {
-    auto get = [&](const nlohmann::json& o, const char* key, auto& v) {
-      at = key;
-      if (o.contains(key)) v = o.at(key).get<std::decay_t<decltype(v)>>();
+    // `prefix` names the enclosing objects, so a message says "adam.beta2", not just "beta2".
+    auto get = [&](const nlohmann::json& o, const std::string& prefix, const char* key, auto& v) {
+      using T = std::decay_t<decltype(v)>;
+      at = prefix + key;
+      if (!o.contains(key)) return;
+      const auto& x = o.at(key);
+      // nlohmann converts 2.5 to 2 and -1 to 2^64 - 1 for an unsigned target: both are mistakes in a config.
+      if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+        const bool negative = x.is_number_integer() && !x.is_number_unsigned() && x.template get<long long>() < 0;
+        if (!x.is_number_integer() || (std::is_unsigned_v<T> && negative))
+          throw InputError("network config entry '" + at + "' must be a non-negative integer, got " + x.dump());
+      }
+      v = x.template get<T>();
     };
     if (j.contains("encoder")) {
       const auto& e = j.at("encoder");
-      get(e, "sh_direction", c.encoder.sh_direction);
-      get(e, "sh_normal", c.encoder.sh_normal);
-      get(e, "albedo", c.encoder.albedo);
-      get(e, "roughness", c.encoder.roughness);
+      get(e, "encoder.", "sh_direction", c.encoder.sh_direction);
+      get(e, "encoder.", "sh_normal", c.encoder.sh_normal);
+      get(e, "encoder.", "albedo", c.encoder.albedo);
+      get(e, "encoder.", "roughness", c.encoder.roughness);
       if (e.contains("grid") && e.at("grid").is_null()) c.encoder.grid.reset();
       if (e.contains("grid") && e.at("grid").is_object()) {
         const auto& g = e.at("grid");
         auto& gc = *c.encoder.grid;
-        get(g, "levels", gc.levels);
-        get(g, "features", gc.features);
-        get(g, "log2_table", gc.log2_table);
-        get(g, "base_resolution", gc.base_resolution);
-        get(g, "growth", gc.growth);
-        get(g, "bbox_lo", gc.bbox_lo);
-        get(g, "bbox_hi", gc.bbox_hi);
+        get(g, "encoder.grid.", "levels", gc.levels);
+        get(g, "encoder.grid.", "features", gc.features);
+        get(g, "encoder.grid.", "log2_table", gc.log2_table);
+        get(g, "encoder.grid.", "base_resolution", gc.base_resolution);
+        get(g, "encoder.grid.", "growth", gc.growth);
+        get(g, "encoder.grid.", "bbox_lo", gc.bbox_lo);
+        get(g, "encoder.grid.", "bbox_hi", gc.bbox_hi);
       }
     }
-    get(j, "width", c.width);
-    get(j, "hidden_layers", c.hidden_layers);
-    get(j, "outputs", c.outputs);
+    get(j, "", "width", c.width);
+    get(j, "", "hidden_layers", c.hidden_layers);
+    get(j, "", "outputs", c.outputs);
     std::string act = "none", gemm = "auto";
-    get(j, "output_activation", act);
+    get(j, "", "output_activation", act);
     if (act != "none" && act != "abs") throw InputError("output_activation '" + act + "' is not none or abs");
     c.output_activation = act == "abs" ? OutputActivation::Abs : OutputActivation::None;
-    get(j, "max_chunk_rows", c.max_chunk_rows);
-    get(j, "gemm", gemm);
+    get(j, "", "max_chunk_rows", c.max_chunk_rows);
+    get(j, "", "gemm", gemm);
     c.gemm = parse_gemm_choice(gemm);
-    get(j, "seed", c.seed);
+    get(j, "", "seed", c.seed);
     if (j.contains("adam")) {
       const auto& a = j.at("adam");
-      get(a, "learning_rate", c.adam.learning_rate);
-      get(a, "beta1", c.adam.beta1);
-      get(a, "beta2", c.adam.beta2);
-      get(a, "epsilon", c.adam.epsilon);
-      get(a, "weight_decay", c.adam.weight_decay);
-      get(a, "decay", c.adam.decay);
-      get(a, "decay_start", c.adam.decay_start);
-      get(a, "decay_interval", c.adam.decay_interval);
+      get(a, "adam.", "learning_rate", c.adam.learning_rate);
+      get(a, "adam.", "beta1", c.adam.beta1);
+      get(a, "adam.", "beta2", c.adam.beta2);
+      get(a, "adam.", "epsilon", c.adam.epsilon);
+      get(a, "adam.", "weight_decay", c.adam.weight_decay);
+      get(a, "adam.", "decay", c.adam.decay);
+      get(a, "adam.", "decay_start", c.adam.decay_start);
+      get(a, "adam.", "decay_interval", c.adam.decay_interval);
     }
   } catch (const nlohmann::json::exception& e) {
     throw InputError("network config entry '" + at + "': " + e.what());
   }
+  validate(c);
   return c;
+}
+
+std::size_t grid_parameter_count(const NetworkConfig& c) {
+  if (!c.encoder.grid) return 0;
+  std::size_t entries = 0;
+  for (const auto& level : hashgrid_levels(*c.encoder.grid)) entries += level.entries;
+  return entries * c.encoder.grid->features;
+}
+
+std::size_t mlp_parameter_count(const NetworkConfig& c) {
+  // Encoder columns as Encoder lays them out: grid features, SH of ω_o and of n (16 each), albedo, roughness.
+  const auto& e = c.encoder;
+  const std::size_t inputs = (e.grid ? e.grid->levels * e.grid->features : 0) + (e.sh_direction ? 16 : 0) +
+                             (e.sh_normal ? 16 : 0) + (e.albedo ? 3 : 0) + (e.roughness ? 1 : 0);
+  std::size_t total = 0;
+  for (std::size_t l = 0; l <= c.hidden_layers; ++l) {
+    const std::size_t in = l == 0 ? inputs : c.width, out = l == c.hidden_layers ? c.outputs : c.width;
+    total += in * out + out;
+  }
+  return total;
 }
 
 Network::Network(cl::Context& ctx, NetworkConfig config)

@@ -37,6 +37,11 @@ NetworkConfig n_module_config(const std::array<float, 3>& bbox_lo, const std::ar
 NetworkConfig i_module_config(const std::array<float, 3>& bbox_lo, const std::array<float, 3>& bbox_hi);
 
 nlohmann::json to_json(const NetworkConfig& c);
+
+// The MLP's and the hash-grid table's parameter counts for a config, without building anything (a checkpoint's
+// tensors are checked against them before its config allocates device memory). Network::parameter_count's twin.
+std::size_t mlp_parameter_count(const NetworkConfig& c);
+std::size_t grid_parameter_count(const NetworkConfig& c);
 NetworkConfig network_config_from_json(const nlohmann::json& j);  // throws InputError naming a bad entry
 
 struct NetworkContext {

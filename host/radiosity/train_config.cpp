@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <set>
+#include <sstream>
+#include <type_traits>
 
 #include "common/error.hpp"
 
@@ -12,8 +15,21 @@ namespace {
 
 template <typename T>
 void require(bool ok, const char* name, const T& value, const char* rule) {
-  if (!ok) throw InputError(std::string(name) + " must be " + rule + ", got " + nlohmann::json(value).dump());
+  if (ok) return;
+  std::string got;
+  if constexpr (std::is_arithmetic_v<T>) {
+    std::ostringstream text;  // JSON would print NaN and infinities as null
+    text << std::setprecision(9) << value;
+    got = text.str();
+  } else {
+    got = nlohmann::json(value).dump();
+  }
+  throw InputError(std::string(name) + " must be " + rule + ", got " + got);
 }
+
+// Each incident sample of a step is one row of kRawInputs = 13 floats in one device buffer; 2^24 rows (872 MB)
+// keep that buffer under PoCL's 1 GiB cap on a single allocation (DESIGN.md §5).
+constexpr long long kMaxIncidentSamples = 1LL << 24;
 
 }  // namespace
 
@@ -25,6 +41,8 @@ void TrainConfig::validate() const {
   require(residual == "relative" || residual == "l2", "residual", residual, "relative or l2");
   require(samples >= 1 && samples <= 1024, "samples", samples, "in [1, 1024]");
   require(batch >= 0 && batch <= (1 << 22), "batch", batch, "in [1, 4194304] (0 = automatic)");
+  require(std::max(batch, 1) * static_cast<long long>(samples) <= kMaxIncidentSamples, "batch × samples",
+          std::max(batch, 1) * static_cast<long long>(samples), "at most 2^24 incident samples per step");
   require(steps >= 0, "steps", steps, ">= 0");
   require(minutes >= 0 && std::isfinite(minutes), "minutes", minutes, ">= 0");
   require(anneal_start >= 0 && anneal_start <= 1, "anneal_start", anneal_start, "in [0, 1]");

@@ -7,6 +7,18 @@
 #include "nn/checkpoint.hpp"
 
 namespace clr::radiosity {
+namespace {
+
+// The stored config decides what is allocated on the device; the file must hold the parameters it describes, so a
+// damaged or hostile config cannot ask for more memory than the file's own size.
+void require_tensors(const nn::Checkpoint& c, const std::string& path, const nn::NetworkConfig& config,
+                     const std::string& prefix) {
+  for (const auto& [name, count] : {std::pair{"mlp.params", nn::mlp_parameter_count(config)},
+                                    std::pair{"grid.table", nn::grid_parameter_count(config)}})
+    if (count) c.tensor(path, prefix + name, count);
+}
+
+}  // namespace
 
 std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesystem::path& checkpoint) {
   const nn::Checkpoint c = nn::read_checkpoint(checkpoint.string());
@@ -16,7 +28,15 @@ std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesyste
   } catch (const nlohmann::json::exception& e) {
     throw InputError("checkpoint " + checkpoint.string() + ": malformed network config: " + e.what());
   }
-  auto network = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config));
+  nn::NetworkConfig network_config;
+  try {
+    network_config = nn::network_config_from_json(config);
+    require_tensors(c, checkpoint.string(), network_config, "");
+  } catch (const InputError& e) {
+    const std::string what = e.what(), prefix = "checkpoint " + checkpoint.string();
+    throw InputError(what.starts_with(prefix) ? what : prefix + ": " + what);
+  }
+  auto network = std::make_unique<nn::Network>(ctx, network_config);
   network->load(checkpoint.string());
   return network;
 }
@@ -33,9 +53,17 @@ std::unique_ptr<nn::Network> load_guide(cl::Context& ctx, const std::filesystem:
   }
   if (config.value("method", "nr") != "isnr" || !config.contains("guide"))
     throw InputError(run_dir.string() + " was trained without an I-Module (method nr): there is no guide to read");
-  auto guide = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config.at("guide")));
   const auto model = (run_dir / "model.clr").string();
-  guide->restore(nn::read_checkpoint(model), model, "guide.");
+  const nn::Checkpoint c = nn::read_checkpoint(model);
+  nn::NetworkConfig guide_config;
+  try {
+    guide_config = nn::network_config_from_json(config.at("guide"));
+  } catch (const InputError& e) {
+    throw InputError(config_path.string() + ": guide: " + e.what());
+  }
+  require_tensors(c, model, guide_config, "guide.");
+  auto guide = std::make_unique<nn::Network>(ctx, guide_config);
+  guide->restore(c, model, "guide.");
   return guide;
 }
 

@@ -105,6 +105,7 @@ image::Image render(const geometry::Geometry& geometry, const RenderOptions& opt
   scene::Camera camera = geometry.scene().camera;
   if (options.width > 0) camera.width = options.width;
   if (options.height > 0) camera.height = options.height;
+  image::check_image_size(camera.width, camera.height, "--width × --height");
   const PathTracer tracer(geometry, options.max_depth.value_or(geometry.scene().max_depth));
   image::Image img(camera.width, camera.height);
   std::atomic<std::uint64_t> rays{0}, non_finite{0};

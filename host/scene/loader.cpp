@@ -1,9 +1,11 @@
 // Mitsuba XML → Scene. Plugins are built as their elements are met (document order), ids are global across
 // <include>d files, and anything clradiosity does not model is refused with the element's file and line rather
 // than silently rendered wrong.
+#include <cmath>
 #include <set>
 
 #include "common/error.hpp"
+#include "image/image.hpp"
 #include "scene/bsdfs.hpp"
 #include "scene/named_ior.hpp"
 #include "scene/scene.hpp"
@@ -69,6 +71,8 @@ class Props {
     const Node& n = expect(name, {"integer"});
     const float v = n.number("value");
     if (v != std::floor(v)) n.fail("expected an integer");
+    // Converting a float outside int's range is undefined behaviour, not a large number.
+    if (!(std::fabs(v) < 2147483648.0f)) n.fail("integer out of range");
     return int(v);
   }
   bool boolean(const std::string& name, bool fallback) const {
@@ -96,6 +100,8 @@ class Props {
 };
 
 class Loader {
+  static constexpr std::size_t kMaxFiles = 1024;
+
  public:
   explicit Loader(const std::map<std::string, std::string>& parameters) : params_(parameters) {}
 
@@ -109,6 +115,10 @@ class Loader {
   void load_file(const std::filesystem::path& path, const Node* included_from) {
     const auto canonical = std::filesystem::weakly_canonical(path);
     if (!including_.insert(canonical).second) included_from->fail("recursive include of '" + path.string() + "'");
+    // Files that each include the next one twice are loaded 2^depth times without any recursion; every parsed
+    // file stays in memory (messages point into it). Real scenes include a handful.
+    if (included_from && sources_.size() >= kMaxFiles)
+      included_from->fail("more than " + std::to_string(kMaxFiles) + " files loaded through <include>");
     std::unique_ptr<xml::Source> src;
     try {
       src = xml::parse_file(path);
@@ -129,6 +139,14 @@ class Loader {
     including_.erase(canonical);
   }
 
+  // Files a scene names must be regular files: a device such as /dev/zero, or a FIFO, would be read forever.
+  static void require_file(const Node& n, const std::filesystem::path& f, const std::string& what) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(f, ec);
+    if (!std::filesystem::exists(status)) n.fail(what + " '" + f.string() + "' not found");
+    if (!std::filesystem::is_regular_file(status)) n.fail(what + " '" + f.string() + "' is not a regular file");
+  }
+
   std::filesystem::path resolve(const Node& n, const std::string& file) const {
     const std::filesystem::path p(file);
     return p.is_absolute() ? p : n.source->path.parent_path() / p;
@@ -146,7 +164,7 @@ class Loader {
         params_.try_emplace(c.attr("name"), c.attr("value"));
       } else if (t == "include") {
         const auto file = resolve(c, c.attr("filename"));
-        if (!std::filesystem::exists(file)) c.fail("included file '" + file.string() + "' not found");
+        require_file(c, file, "included file");
         load_file(file, &c);
       } else if (t == "bsdf") {
         bsdf(c);
@@ -193,7 +211,7 @@ class Loader {
     if (type == "bitmap") {
       if (!p.has("filename")) n.fail("missing property 'filename'");
       const auto file = resolve(n, p.string("filename", ""));
-      if (!std::filesystem::exists(file)) n.fail("texture file '" + file.string() + "' not found");
+      require_file(n, file, "texture file");
       const std::string filter = p.string("filter_type", "bilinear"), wrap = p.string("wrap_mode", "repeat");
       if (filter != "bilinear" && filter != "nearest") n.fail("unsupported filter_type '" + filter + "'");
       if (wrap != "repeat") n.fail("unsupported wrap_mode '" + wrap + "' (only repeat)");
@@ -371,7 +389,7 @@ class Loader {
     auto file = [&] {
       if (!p.has("filename")) n.fail("missing property 'filename'");
       const auto f = resolve(n, p.string("filename", ""));
-      if (!std::filesystem::exists(f)) n.fail("mesh file '" + f.string() + "' not found");
+      require_file(n, f, "mesh file");
       return f;
     };
     try {
@@ -408,6 +426,12 @@ class Loader {
     // Mitsuba gives meshes without normals smooth ones unless face_normals asks for flat shading.
     else if (file_mesh && s.mesh.normals.empty())
       s.mesh.compute_vertex_normals();
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!std::isfinite(to_world[c][r])) n.fail("the to_world transform is not finite (it overflows)");
+    // A singular to_world (a zero scale) flattens the mesh and leaves its normals undefined.
+    if (!(std::fabs(glm::determinant(glm::mat3(to_world))) > 0))
+      n.fail("the to_world transform is singular (a zero scale?)");
     s.mesh.transform(to_world);
     if (p.boolean("flip_normals", false)) s.mesh.flip();
     s.mesh.validate(n.where());
@@ -441,11 +465,13 @@ class Loader {
     const std::string type = n.attr("type");
     if (scene_.environment) n.fail("a scene has at most one environment emitter");
     if (type == "constant") {
-      scene_.environment = std::make_unique<Environment>(Environment::constant(p.color("radiance", Rgb(1.0f))));
+      const Rgb radiance = p.color("radiance", Rgb(1.0f));
+      if (!(radiance.x >= 0 && radiance.y >= 0 && radiance.z >= 0)) n.fail("radiance must be non-negative");
+      scene_.environment = std::make_unique<Environment>(Environment::constant(radiance));
     } else if (type == "envmap") {
       if (!p.has("filename")) n.fail("missing property 'filename'");
       const auto file = resolve(n, p.string("filename", ""));
-      if (!std::filesystem::exists(file)) n.fail("environment map '" + file.string() + "' not found");
+      require_file(n, file, "environment map");
       try {
         scene_.environment =
             std::make_unique<Environment>(Environment::envmap(file, p.number("scale", 1.0f), p.transform("to_world")));
@@ -466,6 +492,7 @@ class Loader {
     if (n.attr("type") != "perspective") n.fail("unsupported sensor type '" + n.attr("type") + "' (perspective)");
     if (sensor_seen_) n.fail("a scene has one sensor");
     sensor_seen_ = true;
+    scene_.has_sensor = true;
     Camera& c = scene_.camera;
     if (!p.has("fov")) n.fail("the perspective sensor needs a 'fov'");
     c.fov_degrees = p.number("fov", 45.0f);
@@ -491,8 +518,11 @@ class Loader {
       const Props f(o);
       c.width = f.integer("width", 768);
       c.height = f.integer("height", 576);
-      if (c.width <= 0 || c.height <= 0 || c.width > 65536 || c.height > 65536)
-        o.fail("film size must be positive and at most 65536");
+      try {
+        image::check_image_size(c.width, c.height, "film");
+      } catch (const InputError& e) {
+        o.fail(e.what());
+      }
     }
   }
 
@@ -513,6 +543,20 @@ class Loader {
 
 Scene load_scene(const std::filesystem::path& path, const std::map<std::string, std::string>& parameters) {
   return Loader(parameters).load(path);
+}
+
+void require_emitter(const Scene& scene, const std::filesystem::path& path) {
+  if (scene.environment) return;
+  // A shape whose triangles are all degenerate is a valid part of a scene (it is never hit), but no light.
+  for (const auto& s : scene.shapes)
+    if (s.is_emitter() && s.mesh.area() > 0) return;
+  throw InputError(path.string() +
+                   ": the scene has no emitter (an area emitter on a shape of non-zero area, or an "
+                   "environment): every radiance would be zero");
+}
+
+void require_sensor(const Scene& scene, const std::filesystem::path& path) {
+  if (!scene.has_sensor) throw InputError(path.string() + ": the scene has no <sensor> to render from");
 }
 
 }  // namespace clr::scene

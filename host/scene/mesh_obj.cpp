@@ -1,6 +1,9 @@
 #include <tiny_obj_loader.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <unordered_map>
 
 #include "common/error.hpp"
@@ -8,16 +11,56 @@
 
 namespace clr::scene {
 
+namespace {
+
+// tinyobjloader reads a coordinate it cannot parse ("nan", "inf", "1.0x") as 0 without a word: a corrupt file
+// would render as a plausible but wrong mesh. Every number of a v/vn/vt line must be a finite number.
+void check_coordinates(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::string line;
+  for (std::size_t number = 1; std::getline(in, line); ++number) {
+    std::istringstream words(line);
+    std::string keyword, word;
+    words >> keyword;
+    if (keyword != "v" && keyword != "vn" && keyword != "vt") continue;
+    while (words >> word && word[0] != '#') {  // a comment may end the line
+      char* end = nullptr;
+      const double v = std::strtod(word.c_str(), &end);
+      if (end != word.c_str() + word.size() || !std::isfinite(v))
+        throw InputError(path.string() + ":" + std::to_string(number) + ": '" + keyword + "' coordinate '" + word +
+                         "' is not a finite number");
+    }
+  }
+}
+
+// An index tinyobjloader passed on without checking (a relative index past the start, or one past the end).
+void check_index(const std::filesystem::path& path, const char* what, int index, std::size_t count, bool optional) {
+  if (optional && index == -1) return;
+  if (index < 0 || std::size_t(index) >= count)
+    throw InputError(path.string() + ": a face's " + what + " index is out of range (the file has " +
+                     std::to_string(count) + ")");
+}
+
+}  // namespace
+
 Mesh load_obj(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path)) throw InputError(path.string() + ": mesh file not found");
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
   std::vector<tinyobj::material_t> materials;
+  check_coordinates(path);
   std::string warn, err;
   // Materials of the .mtl are Mitsuba's business (the XML assigns BSDFs): no material reader, so none is opened.
   std::ifstream in(path);
   if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in, nullptr, true))
     throw InputError(path.string() + ": cannot read OBJ: " + err.substr(0, err.find('\n')));
+
+  for (const auto& shape : shapes)
+    for (const auto& i : shape.mesh.indices) {
+      check_index(path, "vertex", i.vertex_index, attrib.vertices.size() / 3, false);
+      check_index(path, "normal", i.normal_index, attrib.normals.size() / 3, true);
+      check_index(path, "texture coordinate", i.texcoord_index, attrib.texcoords.size() / 2, true);
+    }
 
   // OBJ indexes positions, normals and uvs separately; a vertex is a distinct (position, normal, uv) triple.
   struct Key {

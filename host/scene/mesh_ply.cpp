@@ -2,6 +2,7 @@
 // texture_u texture_v], faces as index lists (polygons are fanned into triangles). Other elements are skipped.
 #include <algorithm>
 #include <bit>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -70,6 +71,34 @@ class Reader {
   std::filesystem::path path_;
 };
 
+std::uint64_t data_bytes(std::istream& in) {
+  const auto here = in.tellg();
+  in.seekg(0, std::ios::end);
+  const auto end = in.tellg();
+  in.seekg(here);
+  return std::uint64_t(end - here);
+}
+
+// A header may announce billions of elements; each takes at least some bytes of the data that follows (in ascii
+// a digit and a separator per value, in binary its scalars and list counts), so counts the file cannot hold are
+// refused before anything is read or allocated.
+void check_counts(const std::vector<Element>& elements, Format format, std::uint64_t available,
+                  const std::filesystem::path& path) {
+  std::uint64_t needed = 0;
+  for (const auto& e : elements) {
+    std::uint64_t each = 0;
+    for (const auto& p : e.properties)
+      each +=
+          format == Format::ascii ? 2 : std::uint64_t(type_size(p.count_type.empty() ? p.type : p.count_type, path));
+    if (each == 0) continue;  // holds no data whatever its count (and load_ply skips it)
+    const std::uint64_t at_most = (available - std::min(needed, available)) / each;
+    if (e.count > at_most)
+      throw InputError(path.string() + ": PLY header announces " + std::to_string(e.count) + " '" + e.name +
+                       "' elements, more than the file's " + std::to_string(available) + " bytes of data can hold");
+    needed += e.count * each;
+  }
+}
+
 }  // namespace
 
 Mesh load_ply(const std::filesystem::path& path) {
@@ -79,12 +108,16 @@ Mesh load_ply(const std::filesystem::path& path) {
   if (!std::getline(in, line) || line.substr(0, 3) != "ply") throw InputError(path.string() + ": not a PLY file");
   Format format = Format::ascii;
   std::vector<Element> elements;
+  bool header_ended = false;
   while (std::getline(in, line)) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream words(line);
     std::string word;
     words >> word;
-    if (word == "end_header") break;
+    if (word == "end_header") {
+      header_ended = true;
+      break;
+    }
     if (word == "format") {
       words >> word;
       if (word == "ascii")
@@ -115,9 +148,13 @@ Mesh load_ply(const std::filesystem::path& path) {
     }
   }
 
+  if (!header_ended) throw InputError(path.string() + ": PLY header has no end_header line");
+  check_counts(elements, format, data_bytes(in), path);
+
   Mesh m;
   Reader reader(in, format, path);
   for (const auto& e : elements) {
+    if (e.properties.empty()) continue;  // nothing to read, however many the header counts
     const bool vertex = e.name == "vertex", face = e.name == "face";
     auto find = [&](std::initializer_list<const char*> names) {
       for (const char* n : names)

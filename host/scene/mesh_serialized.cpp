@@ -28,6 +28,7 @@ class Inflated {
     return v;
   }
   float real(bool dbl) { return dbl ? float(get<double>()) : get<float>(); }
+  std::uint64_t remaining() const { return data_.size() - pos_; }
   void skip_string() {
     while (get<char>() != 0) {
     }
@@ -85,6 +86,9 @@ Mesh load_serialized(const std::filesystem::path& path, int shape_index) {
     throw InputError(what + ": shape_index " + std::to_string(shape_index) + " out of range (the file holds " +
                      std::to_string(count) + ")");
   const std::size_t table_entry = version == 4 ? 8 : 4;
+  // Checked before the subtraction below, which would otherwise wrap around to an offset anywhere in memory.
+  if (count > (file.size() - 4) / table_entry)
+    throw InputError(what + ": the file claims " + std::to_string(count) + " shapes, more than its size can index");
   const std::size_t table = file.size() - 4 - table_entry * count;
   const std::size_t offset = version == 4 ? std::size_t(read_at(table + 8 * std::size_t(shape_index), std::uint64_t{}))
                                           : read_at(table + 4 * std::size_t(shape_index), std::uint32_t{});
@@ -96,6 +100,14 @@ Mesh load_serialized(const std::filesystem::path& path, int shape_index) {
   const auto nv = s.get<std::uint64_t>(), nt = s.get<std::uint64_t>();
   if (nv > (1ull << 31) || nt > (1ull << 31)) throw InputError(what + ": implausible vertex or triangle count");
   const bool dbl = (flags & kDouble) != 0;
+  // The counts must fit the data actually inflated before anything is sized by them: a 100-byte file claiming
+  // 2^31 vertices would otherwise allocate 24 GiB.
+  const bool wide = nv > 0xffffffffull;
+  const std::uint64_t real = dbl ? 8 : 4, per_vertex = real * (3 + (flags & kNormals ? 3 : 0) + (flags & kUvs ? 2 : 0) +
+                                                               (flags & kColors ? 3 : 0));
+  if (nv * per_vertex + nt * 3 * (wide ? 8 : 4) > s.remaining())
+    throw InputError(what + ": shape claims " + std::to_string(nv) + " vertices and " + std::to_string(nt) +
+                     " triangles, more than its " + std::to_string(s.remaining()) + " bytes of data hold");
   Mesh m;
   m.positions.resize(nv);
   for (auto& p : m.positions) p = {s.real(dbl), s.real(dbl), s.real(dbl)};
@@ -114,7 +126,6 @@ Mesh load_serialized(const std::filesystem::path& path, int shape_index) {
     for (std::uint64_t i = 0; i < 3 * nv; ++i) s.real(dbl);
   if (flags & kFaceNormals) m.normals.clear();
   m.triangles.resize(nt);
-  const bool wide = nv > 0xffffffffull;
   for (auto& t : m.triangles)
     for (int c = 0; c < 3; ++c) t[c] = wide ? std::uint32_t(s.get<std::uint64_t>()) : s.get<std::uint32_t>();
   return m;

@@ -30,6 +30,7 @@ struct Scene {
   Camera camera;
   // The scene's integrator max_depth (longest path in segments, Mitsuba's convention); -1: unbounded.
   int max_depth = -1;
+  bool has_sensor = false;  // false: `camera` holds defaults, not a view the file chose
 
   const Bsdf& bsdf(const Shape& s) const { return *materials[std::size_t(s.material)]; }
 };
@@ -37,5 +38,11 @@ struct Scene {
 // Loads a Mitsuba scene (versions 0.5–3). `parameters` override the file's <default> values (like mitsuba -D).
 // InputError with "file:line: <element>: problem" on any unsupported, missing or malformed input.
 Scene load_scene(const std::filesystem::path& path, const std::map<std::string, std::string>& parameters = {});
+
+// What a command needs of a loaded scene, as InputErrors naming the file: light to render or train on (an area
+// emitter or an environment; without one every radiance is zero, which is never what was meant), and a sensor to
+// render from (training needs none).
+void require_emitter(const Scene& scene, const std::filesystem::path& path);
+void require_sensor(const Scene& scene, const std::filesystem::path& path);
 
 }  // namespace clr::scene

@@ -27,6 +27,9 @@ std::shared_ptr<const Bitmap> Bitmap::load(const std::filesystem::path& path, bo
   glm::dvec3 sum(0.0);
   for (std::size_t i = 0; i < bmp->texels.size(); ++i) {
     bmp->texels[i] = Rgb(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]);
+    // An EXR may hold NaN or infinities; as a reflectance they would poison every path that touches them.
+    if (!std::isfinite(bmp->texels[i].x) || !std::isfinite(bmp->texels[i].y) || !std::isfinite(bmp->texels[i].z))
+      throw InputError(path.string() + ": texture has non-finite texels");
     sum += glm::dvec3(bmp->texels[i]);
   }
   if (bmp->texels.empty()) throw InputError(path.string() + ": empty texture");

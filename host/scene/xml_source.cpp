@@ -11,6 +11,14 @@
 
 namespace clr::scene::xml {
 
+namespace {
+// Far beyond any real scene (Mitsuba's own nest a few levels: scene, shape, bsdf, bsdf, texture, transform).
+constexpr int kMaxDepth = 64;
+// Longest attribute value after $name substitution. Far beyond any real value, and it stops a chain of <default>s
+// that each repeat the previous one (a "billion laughs") from growing exponentially.
+constexpr std::size_t kMaxAttributeBytes = 1 << 16;
+}  // namespace
+
 int Source::line_of(std::ptrdiff_t offset) const {
   return int(
       std::upper_bound(line_starts.begin(), line_starts.end(), std::size_t(std::max<std::ptrdiff_t>(offset, 0))) -
@@ -20,6 +28,8 @@ int Source::line_of(std::ptrdiff_t offset) const {
 std::unique_ptr<Source> parse_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in || std::filesystem::is_directory(path)) throw InputError(path.string() + ": scene file not found");
+  // A device (/dev/zero) or FIFO would be read until memory runs out.
+  if (!std::filesystem::is_regular_file(path)) throw InputError(path.string() + ": scene file is not a regular file");
   std::ostringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();
@@ -32,6 +42,22 @@ std::unique_ptr<Source> parse_file(const std::filesystem::path& path) {
   if (!result)
     throw InputError(path.string() + ":" + std::to_string(src->line_of(result.offset)) +
                      ": malformed XML: " + result.description());
+  // The loader walks nested plugins recursively (a twosided in a mask in a bumpmap...): a hostile file nested
+  // 100 000 deep would overflow the stack. Measured here without recursion, before anything walks the tree.
+  int depth = 0;
+  for (pugi::xml_node n = src->doc.first_child(); n;) {
+    if (depth > kMaxDepth)
+      throw InputError(path.string() + ":" + std::to_string(src->line_of(n.offset_debug())) + ": <" + n.name() +
+                       ">: elements nested deeper than " + std::to_string(kMaxDepth));
+    // Depth-first order: a child, else the next sibling of the nearest ancestor that has one.
+    if (n.first_child()) {
+      n = n.first_child();
+      ++depth;
+      continue;
+    }
+    for (; n && !n.next_sibling(); --depth) n = n.parent();
+    if (n) n = n.next_sibling();
+  }
   return src;
 }
 
@@ -69,6 +95,9 @@ std::string Node::attr(const char* attribute) const {
     if (it == parameters->end()) fail("undefined parameter '$" + key + "'");
     v.replace(pos, end - pos, it->second);
     pos += it->second.size();
+    if (v.size() > kMaxAttributeBytes)
+      fail(std::string("attribute '") + attribute + "' exceeds " + std::to_string(kMaxAttributeBytes) +
+           " bytes after $parameter substitution");
   }
   if (std::string(attribute) == "name" && source->version_major < 2) v = snake_case(v);
   return v;

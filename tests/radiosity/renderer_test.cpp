@@ -69,5 +69,30 @@ TEST(Renderer, OtherResolutionsCoverTheSameView) {
   EXPECT_NEAR(mean(small), mean(large), 0.01);
 }
 
+// Memory follows rows_per_query, not the image's width × spp (a line of a wide image at a high spp must not be
+// one chunk), and where the chunks are cut does not change a single bit of the image.
+TEST(Renderer, ChunksOfAnySizeGiveTheSameImage) {
+  // A closed enclosure: every camera sample queries the field, so a chunk's queries are its samples.
+  const auto scene = scene::load_scene(kScenes / "furnace-enclosure.xml");
+  const geometry::Geometry geometry(scene);
+  std::size_t largest = 0;
+  const RadianceQuery field = [&](std::span<const float> rows, std::span<float> rgb) {
+    largest = std::max(largest, rows.size() / nn::kRawInputs);
+    for (std::size_t r = 0; r < rows.size() / nn::kRawInputs; ++r)
+      for (int c = 0; c < 3; ++c) rgb[3 * r + c] = rows[r * nn::kRawInputs + nn::raw::kPosition + std::size_t(c)];
+  };
+  RenderSettings settings;
+  settings.spp = 3;
+  settings.width = 10;
+  settings.height = 6;
+  const auto whole = render(geometry, field, settings);
+  EXPECT_EQ(largest, 10u * 6u * 3u);
+  settings.rows_per_query = 7;  // a prime: chunks end mid-pixel and mid-line
+  largest = 0;
+  const auto pieces = render(geometry, field, settings);
+  EXPECT_LE(largest, 7u);
+  EXPECT_EQ(pieces.rgb, whole.rgb);
+}
+
 }  // namespace
 }  // namespace clr::radiosity

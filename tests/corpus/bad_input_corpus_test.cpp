@@ -1,0 +1,470 @@
+// Malformed and hostile inputs, one table row each: every one ends with its expected exit code (2 bad input,
+// 1 runtime failure, 0 for the few that are odd but valid) and one line on stderr holding the expected fragment —
+// never a crash, a hang or an allocation the input alone decides. Small text cases live in tests/corpus/files;
+// binary and large ones are generated here at start-up. Each command runs under a time limit and a cap on its
+// address space, so a hang or an unbounded allocation fails its row instead of the machine.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "cl/device.hpp"
+#include "image/image.hpp"
+#include "nn/checkpoint.hpp"
+#include "nn/network.hpp"
+
+namespace clr::test {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+const fs::path kCorpus = fs::path(CLR_SOURCE_DIR) / "tests" / "corpus" / "files";
+const fs::path kBox = fs::path(CLR_SOURCE_DIR) / "scenes" / "cornell-box.xml";
+
+// Far above what any row needs (the bundled Cornell box trains in less), far below what a hostile header asks.
+constexpr int kSeconds = 120;
+constexpr long kAddressSpaceKiB = 4L << 20;  // 4 GiB
+
+struct Result {
+  int exit_code;
+  std::string err;
+};
+
+// Runs clradiosity with shell-word `args` under the limits above.
+Result run_limited(const std::string& args, const fs::path& dir) {
+  const fs::path err = dir / ("stderr_" + std::to_string(::getpid()) + ".txt");
+  const std::string cmd = "ulimit -v " + std::to_string(kAddressSpaceKiB) + "; exec timeout " +
+                          std::to_string(kSeconds) + " '" + CLR_CLI_PATH + "' " + args + " >/dev/null 2>'" +
+                          err.string() + "' </dev/null";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(err);
+  std::ostringstream text;
+  text << in.rdbuf();
+  fs::remove(err);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), text.str()};
+}
+
+void write(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+template <typename T>
+void put(std::string& out, T v) {
+  out.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+std::string random_bytes(std::size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::string s(n, '\0');
+  for (auto& c : s) c = char(rng());
+  return s;
+}
+
+std::string zlib(const std::string& raw) {
+  uLongf size = compressBound(uLong(raw.size()));
+  std::string out(size, '\0');
+  compress(reinterpret_cast<Bytef*>(out.data()), &size, reinterpret_cast<const Bytef*>(raw.data()), uLong(raw.size()));
+  out.resize(size);
+  return out;
+}
+
+// A scene with a sensor and a light around one shape or texture, so that only the part under test can be wrong.
+std::string scene_around(const std::string& body) {
+  return "<scene version=\"3.0.0\">\n  <sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/></sensor>\n  " +
+         body + "\n</scene>\n";
+}
+std::string mesh_scene(const std::string& type, const fs::path& mesh) {
+  return scene_around("<shape type=\"" + type + "\"><string name=\"filename\" value=\"" + mesh.string() +
+                      "\"/><emitter type=\"area\"/></shape>");
+}
+std::string texture_scene(const fs::path& image) {
+  return scene_around(
+      "<shape type=\"rectangle\"><emitter type=\"area\"/><bsdf type=\"diffuse\"><texture name=\"reflectance\" "
+      "type=\"bitmap\"><string name=\"filename\" value=\"" +
+      image.string() + "\"/></texture></bsdf></shape>");
+}
+std::string envmap_scene(const fs::path& image) {
+  return scene_around("<shape type=\"rectangle\"/><emitter type=\"envmap\"><string name=\"filename\" value=\"" +
+                      image.string() + "\"/></emitter>");
+}
+
+std::string png_chunk(const std::string& type, const std::string& data) {
+  std::string c;
+  const auto be32 = [&](std::uint32_t v) {
+    for (int s = 24; s >= 0; s -= 8) c.push_back(char(v >> s));
+  };
+  be32(std::uint32_t(data.size()));
+  c += type + data;
+  const std::string crc_input = type + data;
+  be32(std::uint32_t(crc32(0, reinterpret_cast<const Bytef*>(crc_input.data()), uInt(crc_input.size()))));
+  return c;
+}
+
+// A PNG whose header announces width × height pixels, followed by no image data.
+std::string png_header_only(std::uint32_t width, std::uint32_t height) {
+  std::string ihdr;
+  for (std::uint32_t v : {width, height})
+    for (int s = 24; s >= 0; s -= 8) ihdr.push_back(char(v >> s));
+  ihdr += std::string("\x08\x02\x00\x00\x00", 5);  // 8-bit RGB, deflate, no filter, no interlace
+  return std::string("\x89PNG\r\n\x1a\n", 8) + png_chunk("IHDR", ihdr) + png_chunk("IEND", "");
+}
+
+// Mitsuba's .serialized: header, zlib stream of one shape, offset table, shape count.
+std::string serialized(const std::string& shape_stream, std::uint32_t count) {
+  std::string f;
+  put<std::uint16_t>(f, 0x041C);
+  put<std::uint16_t>(f, 4);
+  f += shape_stream;
+  put<std::uint64_t>(f, 0);
+  put<std::uint32_t>(f, count);
+  return f;
+}
+std::string serialized_shape(std::uint64_t vertices, std::uint64_t triangles) {
+  std::string raw;
+  put<std::uint32_t>(raw, 0);  // flags: float positions only
+  raw.push_back('\0');         // name
+  put(raw, vertices);
+  put(raw, triangles);
+  raw += std::string(64, '\0');  // far fewer bytes than the counts need
+  return zlib(raw);
+}
+
+struct Case {
+  std::string name;
+  std::string args;  // {c} the corpus folder, {t} this run's generated files, {box} the bundled Cornell box
+  int exit_code;
+  std::string fragment;
+};
+// What gtest prints for a row (instead of its bytes).
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name << ": clradiosity " << c.args; }
+
+std::string reference(const std::string& scene) {
+  return "reference '" + scene + "' --spp 1 --width 4 --height 4 -o '{t}/out.exr'";
+}
+Case scene_case(const std::string& file, const std::string& fragment, int code = 2) {
+  return {file, reference("{c}/" + file), code, fragment};
+}
+// A scene generated in {t} (see generate()).
+Case generated_case(const std::string& file, const std::string& fragment, int code = 2) {
+  return {file, reference("{t}/" + file), code, fragment};
+}
+Case train_case(const std::string& name, const std::string& flags, const std::string& fragment) {
+  return {name, "train '{box}' " + flags + " -o '{t}/run'", 2, fragment};
+}
+
+const std::vector<Case>& cases() {
+  static const std::vector<Case> all = {
+      // XML
+      scene_case("truncated.xml", "malformed XML"),
+      scene_case("empty.xml", "malformed XML"),
+      generated_case("garbage.xml", "malformed XML"),
+      generated_case("garbage_after_root.xml", "malformed XML"),
+      generated_case("deep.xml", "nested deeper than"),
+      scene_case("unknown_shape.xml", "unsupported shape type 'teapot'"),
+      scene_case("unknown_bsdf.xml", "unsupported BSDF type 'hair'"),
+      scene_case("unknown_element.xml", "<volume type=\"grid\">: unsupported element"),
+      scene_case("wrong_type_tag.xml", "wrong type"),
+      scene_case("wrong_type_value.xml", "malformed number 'forty'"),
+      scene_case("boolean_value.xml", "expected true or false"),
+      scene_case("include_cycle_a.xml", "recursive include"),
+      scene_case("include_self.xml", "recursive include"),
+      generated_case("include_doubling_0.xml", "files loaded through <include>"),
+      scene_case("dangling_ref.xml", "unknown id 'nowhere'"),
+      scene_case("laughs.xml", "after $parameter substitution"),
+      scene_case("no_emitter.xml", "no emitter"),
+      scene_case("zero_emitter.xml", "no emitter"),
+      scene_case("no_sensor.xml", "no <sensor>"),
+      scene_case("film_zero.xml", "not positive"),
+      scene_case("film_negative.xml", "not positive"),
+      scene_case("film_huge.xml", "exceeds the limit"),
+      scene_case("film_int_overflow.xml", "integer out of range"),
+      scene_case("nan_matrix.xml", "malformed number 'nan'"),
+      scene_case("inf_scale.xml", "not finite"),
+      scene_case("overflow_number.xml", "malformed number '1e39'"),
+      scene_case("zero_scale.xml", "singular"),
+      scene_case("degenerate_lookat.xml", "degenerate lookat"),
+      scene_case("fov_180.xml", "fov must lie in (0, 180)"),
+      scene_case("negative_radiance.xml", "radiance must be non-negative"),
+      scene_case("negative_environment.xml", "<emitter type=\"constant\">: radiance must be non-negative"),
+      scene_case("missing_mesh.xml", "not found"),
+      generated_case("device_mesh.xml", "'/dev/zero' is not a regular file"),
+      generated_case("device_include.xml", "'/dev/zero' is not a regular file"),
+      {"device_scene", reference("/dev/zero"), 2, "scene file is not a regular file"},
+      // OBJ
+      generated_case("index_out_of_range.obj.xml", "vertex index is out of range"),
+      generated_case("negative_index.obj.xml", "vertex index is out of range"),
+      generated_case("nan_vertex.obj.xml", "'nan' is not a finite number"),
+      generated_case("inf_vertex.obj.xml", "not finite"),
+      generated_case("degenerate.obj.xml", "no emitter"),
+      // Degenerate meshes occur in real scenes (the shared staircase has one): never hit, never sampled, accepted.
+      generated_case("degenerate_beside_light.xml", "", 0),
+      {"train_degenerate_only", "train '{t}/degenerate_under_sky.xml' --steps 1 -o '{t}/run'", 2,
+       "no surface with a non-delta BSDF to sample"},
+      generated_case("truncated.obj.xml", "no triangles"),
+      generated_case("no_faces.obj.xml", "no triangles"),
+      generated_case("garbage.obj.xml", "obj"),
+      // PLY
+      generated_case("billions.ply.xml", "announces 4000000000 'vertex' elements"),
+      generated_case("negative_count.ply.xml", "'vertex' elements, more than"),
+      generated_case("no_end_header.ply.xml", "no end_header"),
+      generated_case("ply_index.ply.xml", "index out of range"),
+      generated_case("ply_truncated.ply.xml", "more than the file's 12 bytes"),
+      generated_case("ply_short_list.ply.xml", "ends early"),
+      generated_case("ply_bad_type.ply.xml", "property type 'quaternion' unknown"),
+      generated_case("ply_empty_elements.ply.xml", "", 0),
+      generated_case("billions_binary.ply.xml", "announces 1000000000000 'face' elements"),
+      generated_case("truncated_binary.ply.xml", "more than the file's 20 bytes"),
+      generated_case("huge_list.ply.xml", "list length out of range"),
+      generated_case("nan_binary.ply.xml", "not finite"),
+      // .serialized
+      generated_case("garbage.serialized.xml", "not a serialized mesh"),
+      generated_case("shape_table.serialized.xml", "more than its size can index"),
+      generated_case("bad_zlib.serialized.xml", "corrupt compressed data"),
+      generated_case("counts.serialized.xml", "more than its 64 bytes of data hold"),
+      // textures and environment maps
+      generated_case("garbage.png.xml", "cannot read image"),
+      generated_case("huge.png.xml", "exceeds the limit"),
+      generated_case("truncated.exr.xml", "cannot read EXR"),
+      generated_case("garbage.exr.xml", "cannot read EXR"),
+      generated_case("huge_window.exr.xml", "EXR"),
+      generated_case("nan_envmap.exr.xml", "non-finite pixels"),
+      generated_case("nan_texture.exr.xml", "non-finite texels"),
+      // command-line options
+      train_case("train_learning_rate_nan", "--steps 1 --learning-rate nan", "--learning-rate"),
+      train_case("train_learning_rate_negative", "--steps 1 --learning-rate -1", "--learning-rate"),
+      train_case("train_batch_zero", "--steps 1 --batch 0", "--batch"),
+      train_case("train_samples_zero", "--steps 1 --samples 0", "--samples"),
+      train_case("train_steps_negative", "--steps -1", "--steps"),
+      train_case("train_minutes_nan", "--minutes nan", "--minutes"),
+      train_case("train_minutes_inf", "--minutes inf", "--minutes"),
+      train_case("train_seed_negative", "--steps 1 --seed -1", "--seed"),
+      train_case("train_steps_huge", "--steps 99999999999999999999999", "--steps"),
+      {"train_run_dir_is_a_device", "train '{box}' --steps 1 -o /dev/null", 2, "exists and is not a directory"},
+      {"render_spp_zero", "render '{box}' --model '{t}/none' --spp 0 -o '{t}/out.exr'", 2, "--spp"},
+      {"render_width_negative", "render '{box}' --model '{t}/none' --width -4 -o '{t}/out.exr'", 2, "--width"},
+      {"render_camera_nan", "render '{box}' --model '{t}/none' --camera 0,0,nan,0,0,1,0,1,0,40 -o '{t}/out.exr'", 2,
+       "--camera"},
+      {"render_spp_huge", "render '{box}' --model '{t}/none' --spp 1e30 -o '{t}/out.exr'", 2, "--spp"},
+      {"reference_spp_zero", "reference '{box}' --spp 0 -o '{t}/out.exr'", 2, "--spp"},
+      {"reference_max_depth", "reference '{box}' --spp 1 --max-depth -2 -o '{t}/out.exr'", 2, "--max-depth"},
+      {"reference_pixels", "reference '{box}' --spp 1 --width 65536 --height 65536 -o '{t}/out.exr'", 2,
+       "--width × --height"},
+      {"residual_points_zero", "residual '{box}' --model '{t}/none' --points 0", 2, "--points"},
+      {"residual_samples_nan", "residual '{box}' --model '{t}/none' --samples nan", 2, "--samples"},
+      {"reference_output_directory", "reference '{box}' --spp 1 --width 4 --height 4 -o '{t}'", 2, "is a directory"},
+      {"render_png_directory", "render '{box}' --model '{t}/none' -o '{t}/out.exr' --png '{t}'", 2, "is a directory"},
+      {"compare_error_map_directory", "compare '{t}/good.exr' '{t}/good.exr' --error-map '{t}'", 2, "is a directory"},
+      // config.json
+      train_case("config_malformed", "--steps 1 --config '{c}/config_malformed.json'", "malformed JSON"),
+      train_case("config_unknown_key", "--steps 1 --config '{c}/config_unknown_key.json'", "'smaples'"),
+      train_case("config_wrong_type", "--steps 1 --config '{c}/config_wrong_type.json'", "'samples'"),
+      train_case("config_learning_rate", "--steps 1 --config '{c}/config_learning_rate.json'", "'adam.learning_rate'"),
+      train_case("config_incident_samples", "--steps 1 --config '{c}/config_incident_samples.json'", "batch × samples"),
+      // checkpoints
+      {"checkpoint_device", "render '{box}' --model /dev/zero -o '{t}/out.exr'", 2, "not a regular file"},
+      {"checkpoint_garbage", "render '{box}' --model '{t}/garbage_run' -o '{t}/out.exr'", 2, "bad magic"},
+      {"checkpoint_truncated", "render '{box}' --model '{t}/truncated_run' -o '{t}/out.exr'", 2, "truncated"},
+      {"checkpoint_hostile_config", "render '{box}' --model '{t}/hostile_run' -o '{t}/out.exr'", 2,
+       "tensor 'mlp.params'"},
+      {"checkpoint_config_not_json", "render '{box}' --model '{t}/not_json_run' -o '{t}/out.exr'", 2,
+       "malformed network config"},
+      // images compared
+      {"compare_garbage", "compare '{t}/garbage.exr' '{t}/garbage.exr'", 2, "cannot read EXR"},
+      {"compare_huge_window", "compare '{t}/huge_window.exr' '{t}/huge_window.exr'", 2, "EXR"},
+  };
+  return all;
+}
+
+// Writes every generated input into `t`.
+void generate(const fs::path& t) {
+  write(t / "garbage.xml", random_bytes(4096, 1));
+  write(t / "garbage_after_root.xml", "<scene version=\"3.0.0\">" + random_bytes(4096, 2));
+  {
+    constexpr int kDepth = 100000;
+    std::string deep = "<scene version=\"3.0.0\"><shape type=\"rectangle\">";
+    for (int i = 0; i < kDepth; ++i) deep += "<bsdf type=\"twosided\">";
+    for (int i = 0; i < kDepth; ++i) deep += "</bsdf>";
+    write(t / "deep.xml", deep + "</shape></scene>");
+  }
+  // Text meshes of the corpus, each wrapped in a scene.
+  for (const auto& e : fs::directory_iterator(kCorpus)) {
+    const std::string ext = e.path().extension().string();
+    if (ext == ".obj" || ext == ".ply")
+      write(t / (e.path().filename().string() + ".xml"), mesh_scene(ext.substr(1), e.path()));
+  }
+  // Files a scene names that would be read forever.
+  write(t / "device_mesh.xml", mesh_scene("obj", "/dev/zero"));
+  write(t / "device_include.xml", "<scene version=\"3.0.0\"><include filename=\"/dev/zero\"/></scene>");
+  // Each file includes the next twice: 2^40 loads, without any recursion.
+  constexpr int kDoublings = 40;
+  for (int i = 0; i < kDoublings; ++i) {
+    const std::string next = "include_doubling_" + std::to_string(i + 1) + ".xml";
+    write(t / ("include_doubling_" + std::to_string(i) + ".xml"),
+          "<scene version=\"3.0.0\">\n" +
+              (i + 1 < kDoublings ? "<include filename=\"" + next + "\"/><include filename=\"" + next + "\"/>\n"
+                                  : std::string()) +
+              "</scene>\n");
+  }
+  const std::string degenerate =
+      "<shape type=\"obj\"><string name=\"filename\" value=\"" + (kCorpus / "degenerate.obj").string() + "\"/>";
+  write(t / "degenerate_beside_light.xml",
+        scene_around(degenerate + "</shape><shape type=\"rectangle\"><emitter type=\"area\"/></shape>"));
+  write(t / "degenerate_under_sky.xml", scene_around(degenerate + "</shape><emitter type=\"constant\"/>"));
+  write(t / "garbage.obj", random_bytes(4096, 3));
+  write(t / "garbage.obj.xml", mesh_scene("obj", t / "garbage.obj"));
+
+  // Binary PLY.
+  const std::string vertex_header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\n";
+  const std::string face_list = "property list uchar int vertex_indices\nend_header\n";
+  const float triangle[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const std::string vertices(reinterpret_cast<const char*>(triangle), sizeof triangle);
+  std::string face;
+  face.push_back(char(3));
+  for (std::int32_t i : {0, 1, 2}) put(face, i);
+  write(t / "billions_binary.ply", vertex_header + "element face 1000000000000\n" + face_list + vertices + face);
+  write(t / "truncated_binary.ply", vertex_header + "element face 1\n" + face_list + vertices.substr(0, 20));
+  {
+    std::string list = vertex_header + "element face 1\nproperty list uint int vertex_indices\nend_header\n" + vertices;
+    put<std::uint32_t>(list, 4000000000u);
+    write(t / "huge_list.ply", list + std::string(64, '\0'));
+  }
+  {
+    float nan_triangle[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    nan_triangle[4] = std::numeric_limits<float>::quiet_NaN();
+    write(t / "nan_binary.ply", vertex_header + "element face 1\n" + face_list +
+                                    std::string(reinterpret_cast<const char*>(nan_triangle), sizeof nan_triangle) +
+                                    face);
+  }
+  for (const char* f : {"billions_binary.ply", "truncated_binary.ply", "huge_list.ply", "nan_binary.ply"})
+    write(t / (std::string(f) + ".xml"), mesh_scene("ply", t / f));
+
+  // .serialized
+  write(t / "garbage.serialized", random_bytes(4096, 4));
+  write(t / "shape_table.serialized", serialized(std::string(16, '\0'), 0xffffffffu));
+  write(t / "bad_zlib.serialized", serialized(random_bytes(256, 5), 1));
+  write(t / "counts.serialized", serialized(serialized_shape(1ull << 31, 1ull << 31), 1));
+  for (const char* f : {"garbage.serialized", "shape_table.serialized", "bad_zlib.serialized", "counts.serialized"})
+    write(t / (std::string(f) + ".xml"), mesh_scene("serialized", t / f));
+
+  // Images.
+  write(t / "garbage.png", std::string("\x89PNG\r\n\x1a\n", 8) + random_bytes(512, 6));
+  // Within stb's own limit (1 GiB decoded), beyond ours.
+  write(t / "huge.png", png_header_only(20000, 10000));
+  image::Image small(8, 4);
+  for (auto& v : small.rgb) v = 0.5f;
+  image::write_exr(t / "good.exr", small);
+  const std::string exr = read(t / "good.exr");
+  write(t / "truncated.exr", exr.substr(0, exr.size() / 2));
+  write(t / "garbage.exr", std::string("\x76\x2f\x31\x01\x02\x00\x00\x00", 8) + random_bytes(512, 7));
+  {
+    // The header's dataWindow (box2i: xMin yMin xMax yMax) made to announce 2^20 × 2^20 pixels.
+    std::string huge = exr;
+    const std::string key = std::string("dataWindow\0box2i\0", 17);
+    const auto at = huge.find(key);
+    if (at != std::string::npos) {
+      const std::int32_t max = 1 << 20;
+      std::memcpy(&huge[at + key.size() + 4 + 8], &max, 4);
+      std::memcpy(&huge[at + key.size() + 4 + 12], &max, 4);
+    }
+    write(t / "huge_window.exr", huge);
+  }
+  small.rgb[5] = std::numeric_limits<float>::quiet_NaN();
+  image::write_exr(t / "nan.exr", small);
+  for (const char* f : {"garbage.png", "huge.png", "truncated.exr", "garbage.exr", "huge_window.exr"})
+    write(t / (std::string(f) + ".xml"), texture_scene(t / f));
+  write(t / "nan_texture.exr.xml", texture_scene(t / "nan.exr"));
+  write(t / "nan_envmap.exr.xml", envmap_scene(t / "nan.exr"));
+
+  // Checkpoints (render --model RUN_DIR).
+  for (const char* run : {"garbage_run", "truncated_run", "hostile_run", "not_json_run"})
+    fs::create_directories(t / run);
+  write(t / "garbage_run" / "model.clr", random_bytes(4096, 8));
+  nn::Checkpoint c;
+  c.config_json = nn::to_json(nn::NetworkConfig{}).dump();
+  c.tensors.emplace_back("mlp.params", std::vector<float>(1000, 0.0f));
+  nn::write_checkpoint((t / "truncated_run" / "model.clr").string(), c);
+  const std::string whole = read(t / "truncated_run" / "model.clr");
+  write(t / "truncated_run" / "model.clr", whole.substr(0, whole.size() - 100));
+  // A valid file whose config asks for the largest network the config rules allow, but holds no parameters.
+  nn::NetworkConfig big;
+  big.encoder.grid->levels = 16;
+  big.encoder.grid->features = 8;
+  big.encoder.grid->log2_table = 24;
+  big.width = 4096;
+  big.hidden_layers = 64;
+  c.config_json = nn::to_json(big).dump();
+  c.tensors.clear();
+  nn::write_checkpoint((t / "hostile_run" / "model.clr").string(), c);
+  c.config_json = "{\"width\": ";
+  nn::write_checkpoint((t / "not_json_run" / "model.clr").string(), c);
+}
+
+class BadInputCorpus : public ::testing::TestWithParam<Case> {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("clr_corpus_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    generate(dir_);
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static fs::path dir_;
+};
+fs::path BadInputCorpus::dir_;
+
+std::string expand(std::string s, const fs::path& t) {
+  for (const auto& [key, value] :
+       {std::pair<std::string, std::string>{"{c}", kCorpus.string()}, {"{t}", t.string()}, {"{box}", kBox.string()}})
+    for (auto at = s.find(key); at != std::string::npos; at = s.find(key, at + value.size()))
+      s.replace(at, key.size(), value);
+  return s;
+}
+
+TEST_P(BadInputCorpus, ExitsWithOneClearLine) {
+  const Case& c = GetParam();
+  const bool needs_device =
+      c.args.starts_with("train") || c.args.starts_with("render") || c.args.starts_with("residual");
+  if (needs_device && cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL device";
+  fs::remove(dir_ / "out.exr");
+  fs::remove_all(dir_ / "run");
+  const auto r = run_limited(expand(c.args, dir_), dir_);
+  EXPECT_EQ(r.exit_code, c.exit_code) << c.args << "\n" << r.err;
+  if (c.exit_code == 0) return;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr(c.fragment));
+  EXPECT_FALSE(fs::exists(dir_ / "out.exr")) << "a failed command left an output";
+  EXPECT_FALSE(fs::exists(dir_ / "run" / "model.clr")) << "a refused training left a checkpoint";
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, BadInputCorpus, ::testing::ValuesIn(cases()),
+                         [](const ::testing::TestParamInfo<Case>& param) {
+                           std::string name = param.param.name;
+                           for (auto& ch : name)
+                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                           return name;
+                         });
+
+// Writing to a device must write through it, not replace it (common/atomic_file.hpp).
+TEST(BadInputCorpusOutput, DevNullStaysADevice) {
+  ASSERT_TRUE(fs::is_character_file("/dev/null"));
+  const auto r = run_limited("reference '" + kBox.string() + "' --spp 1 --width 4 --height 4 -o /dev/null",
+                             fs::temp_directory_path());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::is_character_file("/dev/null")) << "/dev/null was replaced by a regular file";
+}
+
+}  // namespace
+}  // namespace clr::test
