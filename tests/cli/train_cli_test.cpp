@@ -99,7 +99,7 @@ TEST_F(TrainCli, IsnrRunShowsItsGuide) {
       {"guide " + kBox + " --model " + nr + " --pixel 1,1 -o " + (dir / "n.png").string(), "without an I-Module"},
       {"guide " + kBox + " --model " + run + " --pixel 500,1 -o " + (dir / "n.png").string(), "outside"},
       {"residual " + kBox + " --model " + nr + " --sampling guide", "without an I-Module"},
-      {"train " + kBox + " --steps 1 --bsdf-fraction 0 -o " + (dir / "x").string(), "bsdf_fraction"},
+      {"train " + kBox + " --steps 1 --bsdf-fraction 0 -o " + (dir / "x").string(), "--bsdf-fraction"},
       {"train " + kBox + " --steps 1 --is-loss nope -o " + (dir / "x").string(), "--is-loss"},
   };
   for (const auto& [args, culprit] : cases) {

@@ -39,7 +39,11 @@ TEST(TrainConfig, ImpossibleSettingsNameTheKey) {
   EXPECT_EQ(error_of(nlohmann::json::object()), "");
   EXPECT_THAT(error_of({{"samples", 0}}), HasSubstr("samples"));
   EXPECT_THAT(error_of({{"method", "pt"}}), HasSubstr("method"));
-  EXPECT_THAT(error_of({{"method", "isnr"}}), HasSubstr("not implemented"));
+  EXPECT_EQ(error_of({{"method", "isnr"}}), "");
+  EXPECT_THAT(error_of({{"is_loss", "js"}}), HasSubstr("is_loss"));
+  EXPECT_THAT(error_of({{"bsdf_fraction", 0}}), HasSubstr("bsdf_fraction"));
+  EXPECT_THAT(error_of({{"bsdf_fraction", 1.5}}), HasSubstr("bsdf_fraction"));
+  EXPECT_THAT(error_of({{"guide", 3}}), HasSubstr("guide"));
   EXPECT_THAT(error_of({{"batch", -1}}), HasSubstr("batch"));
   EXPECT_THAT(error_of({{"samlpes", 4}}), HasSubstr("unknown training config key 'samlpes'"));
   EXPECT_THAT(error_of({{"samples", "four"}}), HasSubstr("should be a number"));
