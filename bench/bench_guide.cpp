@@ -1,16 +1,21 @@
 // The I-Module's share of an ISNR training step (the target: ≤ 10 %, the paper's overhead ≈ 10 %): NR and
 // ISNR trainers with the default settings on one scene take interleaved blocks of steps; the share is
 // (t_ISNR − t_NR) / t_ISNR, printed beside the anchor (the paper's ≈ 10 %, and +18 % to +38 % implied by its
-// Table 1). Usage: bench_guide [SCENE.xml] [rounds] (default: the shared Cornell box, 5 rounds of 20 steps).
+// Table 1), then the I-Module's stages one by one. Usage: bench_guide [SCENE.xml] [rounds] (default: the shared
+// Cornell box, 5 rounds of 20 steps).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 
 #include "cl/context.hpp"
+#include "common/pcg32.hpp"
 #include "geometry/geometry.hpp"
+#include "nn/vmf_mixture.hpp"
 #include "radiosity/trainer.hpp"
 #include "scene/scene.hpp"
 
@@ -18,6 +23,59 @@ namespace {
 
 using namespace clr;
 namespace fs = std::filesystem;
+
+// The I-Module's stages on a training batch's shape (M points, N samples, random rows and targets), each timed to
+// completion: where its share of a step goes.
+void print_stages(cl::Context& ctx, const nn::NetworkConfig& guide_config, std::size_t M, std::size_t N) {
+  nn::Network guide(ctx, guide_config);
+  nn::VmfMixture vmf(ctx);
+  Pcg32 rng(0, 3);
+  const auto uniform = [&](std::size_t n, float lo, float hi) {
+    std::vector<float> v(n);
+    for (auto& x : v) x = lo + (hi - lo) * rng.next_float();
+    return v;
+  };
+  cl::Buffer<float> rows(ctx, std::span<const float>(uniform(M * nn::kRawInputs, 0.0f, 1.0f))),
+      u(ctx, std::span<const float>(uniform(M * N * 3, 0.0f, 1.0f))), dirs(ctx, M * N * 3),
+      bsdf_pdf(ctx, std::span<const float>(uniform(M * N, 0.05f, 1.0f))), pdf(ctx, M * N), q(ctx, M * N),
+      weight(ctx, std::span<const float>(uniform(M * N * 3, 0.0f, 1.0f))),
+      emitted(ctx, std::span<const float>(uniform(M * N * 3, 0.0f, 0.1f))),
+      radiance(ctx, std::span<const float>(uniform(M * N * 3, 0.0f, 1.0f))), d_raw(ctx, M * nn::kVmfRaw);
+  std::vector<int> lookup_host(M * N);
+  for (std::size_t s = 0; s < M * N; ++s) lookup_host[s] = int(s);
+  cl::Buffer<int> lookup(ctx, std::span<const int>(lookup_host));
+  nn::NetworkContext fwd;
+  const std::pair<const char*, std::function<void()>> stages[] = {
+      {"forward (activations kept)", [&] { guide.forward_train(rows, M, fwd); }},
+      {"decode lobes", [&] { vmf.decode(fwd.output(), M); }},
+      {"sample directions", [&] { vmf.sample(u, N, dirs); }},
+      {"read directions back", [&] { (void)dirs.read(); }},
+      {"mixture pdf", [&] { vmf.mixture_pdf(dirs, bsdf_pdf, N, 0.5f, pdf, q); }},
+      {"KL/IKL gradient",
+       [&] {
+         vmf.loss({dirs, bsdf_pdf, pdf, weight, emitted, lookup, radiance}, N, true, d_raw);
+       }},
+      {"backward", [&] { guide.backward(fwd, d_raw); }},
+      {"Adam", [&] { guide.adam_step(); }},
+  };
+  double total = 0;
+  std::printf("I-Module stages at M = %zu, N = %zu:\n", M, N);
+  for (const auto& [name, run] : stages) {
+    run();  // warm-up, and the state the next stage reads
+    ctx.finish();
+    double best = 1e30;
+    for (int rep = 0; rep < 5; ++rep) {
+      const auto start = std::chrono::steady_clock::now();
+      run();
+      ctx.finish();
+      best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+    total += best;
+    std::printf("  %-28s %6.2f ms\n", name, 1e3 * best);
+  }
+  std::printf("  %-28s %6.2f ms (the host's BSDF evaluations at guided directions come on top)\n", "total",
+              1e3 * total);
+}
 
 }  // namespace
 
@@ -62,5 +120,7 @@ int main(int argc, char** argv) {
       "NR step %.1f ms, ISNR step %.1f ms: the I-Module's share of a step %.1f %% "
       "(target ≤ 10 %%; the paper: ≈ 10 %%)\n",
       1e3 * t_nr, 1e3 * t_isnr, 100 * (t_isnr - t_nr) / t_isnr);
+  print_stages(ctx, nn::network_config_from_json(isnr.config().guide), std::size_t(isnr.config().batch),
+               std::size_t(isnr.config().samples));
   return 0;
 }
