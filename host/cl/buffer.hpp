@@ -84,4 +84,15 @@ class Buffer {
   MemHandle mem_;
 };
 
+// Grow-only buffers reused across steps: re-created only when `count` (at least one) elements no longer fit.
+template <typename T>
+void reserve(Context& ctx, Buffer<T>& buf, std::size_t count) {
+  if (buf.size() < std::max<std::size_t>(1, count)) buf = Buffer<T>(ctx, std::max<std::size_t>(1, count));
+}
+template <typename T>
+void upload(Context& ctx, Buffer<T>& buf, const std::vector<T>& host) {
+  reserve(ctx, buf, host.size());
+  if (!host.empty()) buf.write(host);
+}
+
 }  // namespace clr::cl

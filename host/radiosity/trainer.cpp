@@ -22,30 +22,11 @@ namespace {
 constexpr const char* kLogHeader = "step,seconds,loss,lookups,non_finite,learning_rate,residual_power";
 constexpr const char* kGuideLogColumns = ",guide_loss,guided_share";  // isnr runs only
 
-// Grow-only device buffers: re-created only when a step needs more elements than before.
-template <typename T>
-void upload(cl::Context& ctx, cl::Buffer<T>& buf, const std::vector<T>& host) {
-  if (buf.size() < host.size()) buf = cl::Buffer<T>(ctx, host.size());
-  buf.write(host);
-}
-template <typename T>
-void reserve(cl::Context& ctx, cl::Buffer<T>& buf, std::size_t count) {
-  if (buf.size() < count) buf = cl::Buffer<T>(ctx, count);
-}
-
 std::string read_text(const fs::path& path) {
   std::ifstream in(path);
   if (!in) throw InputError("cannot read " + path.string());
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
-
-}  // namespace
-
-int default_batch(const cl::DeviceInfo& device) { return device.type == "gpu" ? 16384 : 4096; }
-
-std::size_t default_width(const cl::DeviceInfo& device) { return device.type == "gpu" ? 512 : 256; }
-
-namespace {
 
 // What the networks' inputs need to know of a scene: the box the hash grids cover, and whether albedo and
 // roughness vary over the modelled surfaces (an input that is the same everywhere carries nothing).
@@ -84,6 +65,10 @@ nn::NetworkConfig patched(const nn::NetworkConfig& base, const nlohmann::json& p
 }
 
 }  // namespace
+
+int default_batch(const cl::DeviceInfo& device) { return device.type == "gpu" ? 16384 : 4096; }
+
+std::size_t default_width(const cl::DeviceInfo& device) { return device.type == "gpu" ? 512 : 256; }
 
 nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
                                           const TrainConfig& config, const cl::DeviceInfo& device) {
@@ -143,14 +128,15 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
     network_ = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config_.network));
     if (config_.guided()) {
       config_.guide = nn::to_json(guide_network_config(geometry, sampler_, config_));
+      if (config_.guide["outputs"] != nn::kVmfRaw)
+        throw InputError("guide.outputs must be " + std::to_string(nn::kVmfRaw) + " (8 vMF lobes × 4), got " +
+                         config_.guide["outputs"].dump());
       guide_ = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config_.guide));
     }
     fs::create_directories(run_dir_);
     write_text_atomically(run_dir_ / "config.json", nlohmann::json(config_).dump(2) + "\n");
     write_text_atomically(run_dir_ / "log.csv", std::string(kLogHeader) + (guide_ ? kGuideLogColumns : "") + "\n");
   }
-  if (guide_ && guide_->outputs() != nn::kVmfRaw)
-    throw InputError("guide: the I-Module must have " + std::to_string(nn::kVmfRaw) + " outputs (8 lobes × 4)");
   residual_power_ = float(config_.relative_power(0.0));
   batch_settings_.points = std::size_t(config_.batch);
   batch_settings_.samples = std::size_t(config_.samples);
@@ -163,14 +149,14 @@ StepStats Trainer::step() {
   const std::uint64_t step = guide_ ? guide_->steps() : network_->steps();
   sample_training_points(sampler_, geometry_->scene(), batch_settings_, config_.seed, step, batch_);
   const std::size_t M = batch_.points, N = batch_.samples;
-  upload(*ctx_, point_rows_, batch_.point_rows);
+  cl::upload(*ctx_, point_rows_, batch_.point_rows);
   // The I-Module's lobes at the points, activations kept for its backward.
   if (guide_) guide_->forward_train(point_rows_, M, guide_ctx_);
   incident_.sample(*geometry_, batch_settings_, config_.seed, step, guide_ ? &guide_ctx_.output() : nullptr, batch_);
   const std::size_t K = batch_.lookups();
-  reserve(*ctx_, incident_radiance_, std::max<std::size_t>(1, K) * 3);
-  reserve(*ctx_, rhs_, M * 3);
-  reserve(*ctx_, d_output_, M * 3);
+  cl::reserve(*ctx_, incident_radiance_, K * 3);
+  cl::reserve(*ctx_, rhs_, M * 3);
+  cl::reserve(*ctx_, d_output_, M * 3);
 
   // sg(L_α) at the incident hits: inference only, no activations kept.
   if (K) network_->infer(incident_.incident_rows, K, incident_radiance_);
@@ -187,7 +173,7 @@ StepStats Trainer::step() {
   }
   if (guide_) {
     // The I-Module learns from the same samples and the N-Module's radiance before its update (sg(L_α)).
-    reserve(*ctx_, d_lobes_, M * nn::kVmfRaw);
+    cl::reserve(*ctx_, d_lobes_, M * nn::kVmfRaw);
     incident_.vmf().loss(incident_.guide_samples(incident_radiance_), N, config_.is_loss == "ikl", d_lobes_);
     guide_->backward(guide_ctx_, d_lobes_);
     guide_->adam_step();

@@ -7,8 +7,8 @@
 namespace clr::radiosity {
 namespace {
 
-// Distinct RNG streams for the uses of one (seed, step): surface points, the per-point direction streams, and the
-// uniforms of the guided directions.
+// Distinct RNG streams for the uses of one (seed, step): surface points (0), ω_o (1), the uniforms of the guided
+// directions (2), and the incident half's per-point streams (3).
 std::uint64_t stream_id(std::uint64_t seed, std::uint64_t step, std::uint64_t use) {
   return (seed * 0x9E3779B97F4A7C15ull) ^ (step * 0xBF58476D1CE4E5B9ull) ^ (use * 0x94D049BB133111EBull);
 }
@@ -57,11 +57,7 @@ void sample_incident(const geometry::Geometry& geometry, const BatchSettings& se
 
   parallel_for(M, 64, [&](std::size_t first, std::size_t last) {
     for (std::size_t m = first; m < last; ++m) {
-      // The stream continues where sample_training_points left it (two uniforms for ω_o), so NR batches are
-      // what they were before the split.
-      Pcg32 rng(m, stream_id(seed, step, 1));
-      rng.next_float();
-      rng.next_float();
+      Pcg32 rng(m, stream_id(seed, step, 3));
       const auto& x = batch.surface[m];
       const Vec3& wo = batch.wo[m];
       const scene::BsdfPoint bsdf = x.point.bsdf(scene);
@@ -114,12 +110,6 @@ void sample_incident(const geometry::Geometry& geometry, const BatchSettings& se
   batch.incident_rows.resize(rows * R);
   for (std::size_t s = 0; s < M * N; ++s)
     if (batch.lookup[s] >= 0) std::copy_n(&candidate[s * R], R, &batch.incident_rows[std::size_t(batch.lookup[s]) * R]);
-}
-
-void build_training_batch(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
-                          const BatchSettings& settings, std::uint64_t seed, std::uint64_t step, TrainingBatch& batch) {
-  sample_training_points(sampler, geometry.scene(), settings, seed, step, batch);
-  sample_incident(geometry, settings, seed, step, {}, batch);
 }
 
 void guide_uniforms(std::size_t points, std::size_t samples, std::uint64_t seed, std::uint64_t step,

@@ -46,14 +46,10 @@ void sample_training_points(const geometry::SurfaceSampler& sampler, const scene
                             TrainingBatch& batch);
 
 // The second half: each sample takes the BSDF with probability c, else the direction guided[s] (3 floats per
-// sample, drawn from q on the device; empty when c = 1).
+// sample, drawn from q on the device; empty when c = 1). Sample streams depend only on (seed, step, point index), so
+// a batch is reproducible whatever the thread count.
 void sample_incident(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed,
                      std::uint64_t step, std::span<const float> guided, TrainingBatch& batch);
-
-// Both halves with BSDF sampling only. Sample streams depend only on (seed, step, point index), so a batch is
-// reproducible whatever the thread count.
-void build_training_batch(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
-                          const BatchSettings& settings, std::uint64_t seed, std::uint64_t step, TrainingBatch& batch);
 
 // The three uniforms per sample that the device turns into guided directions (kernels/vmf.cl: vmf_sample).
 void guide_uniforms(std::size_t points, std::size_t samples, std::uint64_t seed, std::uint64_t step,
