@@ -15,6 +15,7 @@
 #include "cl/context.hpp"
 #include "common/pcg32.hpp"
 #include "geometry/geometry.hpp"
+#include "nn/probe_cache.hpp"
 #include "nn/vmf_mixture.hpp"
 #include "radiosity/trainer.hpp"
 #include "scene/scene.hpp"
@@ -61,15 +62,8 @@ void print_stages(cl::Context& ctx, const nn::NetworkConfig& guide_config, std::
   double total = 0;
   std::printf("I-Module stages at M = %zu, N = %zu:\n", M, N);
   for (const auto& [name, run] : stages) {
-    run();  // warm-up, and the state the next stage reads
-    ctx.finish();
-    double best = 1e30;
-    for (int rep = 0; rep < 5; ++rep) {
-      const auto start = std::chrono::steady_clock::now();
-      run();
-      ctx.finish();
-      best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    }
+    // Its warm-up run also leaves the state the next stage reads.
+    const double best = nn::ProbeCache::time_best_of_three(ctx, run);
     total += best;
     std::printf("  %-28s %6.2f ms\n", name, 1e3 * best);
   }

@@ -39,13 +39,17 @@ double cone_share_after_training(cl::Context& ctx, bool improved, int steps) {
   Pcg32 rng(0, 99);
   std::vector<float> u(M * N * 3), dirs(M * N * 3), emitted(M * N * 3);
   nn::NetworkContext fwd;
-  for (int step = 0; step < steps; ++step) {
+  // The lobes at the points (activations kept) and a direction from them for every sample.
+  const auto draw_from_q = [&] {
     net.forward_train(raw_rows, M, fwd);
     vmf.decode(fwd.output(), M);
     for (auto& x : u) x = rng.next_float();
     u_dev.write(u);
     vmf.sample(u_dev, N, guided);
-    const auto from_q = guided.read();
+    return guided.read();
+  };
+  for (int step = 0; step < steps; ++step) {
+    const auto from_q = draw_from_q();
     // The one-sample mixture of a uniform "BSDF" and q.
     for (std::size_t s = 0; s < M * N; ++s) {
       glm::vec3 w(from_q[3 * s], from_q[3 * s + 1], from_q[3 * s + 2]);
@@ -64,12 +68,7 @@ double cone_share_after_training(cl::Context& ctx, bool improved, int steps) {
     net.adam_step();
   }
   // The learned mixture's mass in the cone, by sampling it.
-  net.forward_train(raw_rows, M, fwd);
-  vmf.decode(fwd.output(), M);
-  for (auto& x : u) x = rng.next_float();
-  u_dev.write(u);
-  vmf.sample(u_dev, N, guided);
-  const auto from_q = guided.read();
+  const auto from_q = draw_from_q();
   std::size_t inside = 0;
   for (std::size_t s = 0; s < M * N; ++s)
     inside += glm::dot(glm::vec3(from_q[3 * s], from_q[3 * s + 1], from_q[3 * s + 2]), emitter) > cone_cos;
