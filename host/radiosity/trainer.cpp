@@ -13,6 +13,7 @@
 #include "common/progress.hpp"
 #include "common/stop_signal.hpp"
 #include "nn/checkpoint.hpp"
+#include "radiosity/radiance_scale.hpp"
 #include "radiosity/trained_model.hpp"
 
 namespace clr::radiosity {
@@ -76,6 +77,7 @@ nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, co
   nn::NetworkConfig base = nn::n_module_config(in.lo, in.hi);
   base.width = default_width(device);
   base.encoder.albedo = in.albedo_varies;
+  base.output_scale = radiance_scale(geometry.scene());
   base.seed = config.seed;
   return patched(base, config.network);
 }
@@ -167,7 +169,9 @@ StepStats Trainer::step() {
   if (!hold_radiance_) {
     network_->forward_train(point_rows_, M, train_ctx_);
     // Mean over points and channels, so the learning rate does not depend on the batch size.
-    loss_.evaluate(train_ctx_.output(), rhs_, M * 3, 1.0f / float(M * 3), residual_power_, d_output_);
+    // The right-hand side is in radiance (infer applies the output scale); the raw outputs are in its units.
+    loss_.evaluate(train_ctx_.output(), rhs_, M * 3, 1.0f / float(M * 3), residual_power_, d_output_,
+                   1.0f / network_->config().output_scale);
     network_->backward(train_ctx_, d_output_);
     network_->adam_step();
   }
@@ -230,10 +234,15 @@ void Trainer::run() {
     if (now % config_.log_every == 0) {
       const nn::LossValue v = loss_.take();
       const nn::LossValue g = guide_ ? incident_.vmf().take() : nn::LossValue{0, 0};
+      // Incident terms dropped while forming the right-hand side count too: they never reach the loss, so the
+      // loss's own count cannot see them.
+      const std::uint32_t rhs_dropped = non_finite_.read()[0];
+      non_finite_.fill(0u);
       loss_sum = v.loss / double(loss_steps);
       char row[256];
       std::snprintf(row, sizeof row, "%ld,%.3f,%.6g,%.3f,%u,%.6g,%.4g", now, seconds_before_ + elapsed(), loss_sum,
-                    double(lookups) / double(loss_steps * config_.batch * config_.samples), v.non_finite + g.non_finite,
+                    double(lookups) / double(loss_steps * config_.batch * config_.samples),
+                    v.non_finite + g.non_finite + rhs_dropped,
                     lr_scale * double(network_->config().adam.learning_rate_at(std::uint64_t(now))),
                     double(residual_power_));
       std::string line = row;
