@@ -27,7 +27,9 @@ float radiance_scale(const scene::Scene& scene) {
   const float brightest = brightest_emission(scene);
   if (!(brightest > 0) || (brightest >= kRadianceWindowLow && brightest <= kRadianceWindowHigh)) return 1.0f;
   // Within NetworkConfig::output_scale's range, so that no scene's unit is refused as a config error.
-  return float(std::clamp(std::pow(10.0, std::floor(std::log10(double(brightest)))), 1e-30, 1e30));
+  // The 1e-6 lets an emission written as 1e-4 (the float 0.99999997e-4) be its own decade, not the one below.
+  const double decade = std::floor(std::log10(double(brightest)) + 1e-6);
+  return float(std::clamp(std::pow(10.0, decade), 1e-30, 1e30));
 }
 
 }  // namespace clr::radiosity

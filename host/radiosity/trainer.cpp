@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -91,6 +92,25 @@ nn::NetworkConfig guide_network_config(const geometry::Geometry& geometry, const
   return patched(base, config.guide);
 }
 
+namespace {
+
+// A run killed (SIGKILL, power loss) while writing leaves write_atomically's temporary ("model.clr.tmp<pid>")
+// beside the intact file. The caller holds the run's lock, so no live writer owns one: they are removed on resume
+// rather than left to pile up, one per kill.
+void remove_stale_temporaries(const fs::path& run_dir) {
+  for (const auto& entry : fs::directory_iterator(run_dir)) {
+    const std::string name = entry.path().filename().string();
+    for (const char* base : {"model.clr.tmp", "config.json.tmp", "log.csv.tmp"})
+      if (name.rfind(base, 0) == 0 && name.size() > std::strlen(base) &&
+          name.find_first_not_of("0123456789", std::strlen(base)) == std::string::npos && entry.is_regular_file()) {
+        std::error_code ec;
+        fs::remove(entry.path(), ec);
+      }
+  }
+}
+
+}  // namespace
+
 Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConfig config, fs::path run_dir,
                  bool resume)
     : ctx_(&ctx),
@@ -105,6 +125,7 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
   const fs::path model = run_dir_ / "model.clr";
   if (resume) {
     if (!fs::exists(model)) throw InputError("--resume: no checkpoint " + model.string());
+    remove_stale_temporaries(run_dir_);
     // The run's own settings win; only the stopping rule comes from this invocation. A run written before ISNR
     // existed has no `method` in its config.json: it was vanilla NR.
     nlohmann::json saved_json = nlohmann::json::parse(read_text(run_dir_ / "config.json"));

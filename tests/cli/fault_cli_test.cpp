@@ -92,33 +92,50 @@ TEST_F(FaultCli, TerminateWritesACheckpointAndExitsCleanly) {
   EXPECT_NO_THROW(nn::read_checkpoint((run / "model.clr").string()));
 }
 
+bool temporary_in(const fs::path& run) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(run, ec))
+    if (entry.path().filename().string().rfind("model.clr.tmp", 0) == 0) return true;
+  return false;
+}
+
 TEST_F(FaultCli, KillAtRandomTimesLeavesALoadableCheckpointAndResumes) {
   // SIGKILL cannot be caught: only the write order (temporary file, then rename) protects model.clr. A checkpoint
-  // every step makes writes frequent; kill at random moments, then the file must load and the run resume.
+  // every step makes writes frequent. Odd rounds kill at a random moment; even rounds kill as soon as a checkpoint's
+  // temporary appears, i.e. during a write. After each the file must load and the run resume from it.
   const fs::path run = dir / "run";
   std::mt19937 rng(16);
   std::uniform_int_distribution<int> delay_ms(0, 400);
   std::uint64_t last_step = 0;
-  int mid_write = 0;  // kills that left a checkpoint's temporary behind, i.e. landed during a write
-  for (int round = 0; round < 5; ++round) {
+  int mid_write = 0;  // kills that left a temporary behind: they certainly landed during a write
+  for (int round = 0; round < 6; ++round) {
     const pid_t pid = start_training(run, round > 0);
     ASSERT_GE(pid, 0);
-    // Let it pass its first checkpoint of this session (a new log row), then kill at a random moment.
+    // Let it log a row of this session first, and have written a first checkpoint: a kill during the very first
+    // write leaves no model.clr at all, and nothing to resume (`--resume` then says so, exit 2).
     const std::size_t rows = lines_in(run / "log.csv");
     ASSERT_TRUE(wait_for_lines(run / "log.csv", rows + 2)) << "round " << round << ": no progress";
-    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+    const auto first = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!fs::exists(run / "model.clr") && std::chrono::steady_clock::now() < first)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (round % 2 == 0) {
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+      while (!temporary_in(run) && std::chrono::steady_clock::now() < deadline) {
+      }
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+    }
     ::kill(pid, SIGKILL);
     int status = 0;
     ASSERT_EQ(waitpid(pid, &status, 0), pid);
     ASSERT_TRUE(WIFSIGNALED(status));
-    for (const auto& entry : fs::directory_iterator(run))
-      if (entry.path().filename().string().rfind("model.clr.tmp", 0) == 0) ++mid_write;
+    mid_write += temporary_in(run);
     nn::Checkpoint c;
     ASSERT_NO_THROW(c = nn::read_checkpoint((run / "model.clr").string())) << "round " << round;
     EXPECT_GE(c.step, last_step) << "round " << round << ": the checkpoint went back in time";
     last_step = c.step;
   }
-  std::printf("%d of 5 kills landed while a checkpoint was being written\n", mid_write);
+  std::printf("%d of 6 kills landed while a checkpoint was being written\n", mid_write);
   // The survivor renders, and a resume continues from it.
   auto r =
       run_cli("render " + kBox + " --model " + run.string() + " --width 8 --height 8 -o " + (dir / "out.exr").string());
@@ -126,6 +143,7 @@ TEST_F(FaultCli, KillAtRandomTimesLeavesALoadableCheckpointAndResumes) {
   r = run_cli("train " + kBox + " --resume --steps " + std::to_string(last_step + 2) + " -o " + run.string());
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(nn::read_checkpoint((run / "model.clr").string()).step, last_step + 2);
+  EXPECT_FALSE(temporary_in(run)) << "a resume removes the temporaries that kills left";
 }
 
 // The lines of `err` that are the command's error (progress lines aside).

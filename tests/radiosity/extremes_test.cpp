@@ -153,8 +153,8 @@ INSTANTIATE_TEST_SUITE_P(RadianceAndScale, ExtremeFurnace,
 
 TEST(ExtremeRadianceScale, IsOneInsideTheMeasuredWindowAndAPowerOfTenOutside) {
   TempDir dir("scale");
-  const std::pair<double, float> cases[] = {{17, 1.0f},    {0.1, 1.0f}, {3e4, 1.0f},   {0.05, 0.01f},
-                                            {3e-4, 1e-4f}, {5e4, 1e4f}, {2.5e7, 1e7f}, {1e38, 1e30f}};
+  const std::pair<double, float> cases[] = {{17, 1.0f},    {0.1, 1.0f}, {3e4, 1.0f}, {0.05, 0.01f}, {3e-4, 1e-4f},
+                                            {1e-4, 1e-4f}, {1e5, 1e5f}, {5e4, 1e4f}, {2.5e7, 1e7f}, {1e38, 1e30f}};
   for (const auto& [le, unit] : cases) {
     const auto scene = furnace(dir.path, 1, le);
     EXPECT_FLOAT_EQ(radiosity::brightest_emission(scene), float(le));
