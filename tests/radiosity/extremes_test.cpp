@@ -10,6 +10,7 @@
 #include <string>
 
 #include "geometry/geometry.hpp"
+#include "geometry/surface.hpp"
 #include "nn/checkpoint.hpp"
 #include "radiosity/radiance_scale.hpp"
 #include "radiosity/renderer.hpp"
@@ -150,6 +151,20 @@ INSTANTIATE_TEST_SUITE_P(RadianceAndScale, ExtremeFurnace,
                                            Extreme{1, 1e5, "BrightLe1e5"}, Extreme{1e-3, 1, "Scale1em3"},
                                            Extreme{1e4, 1, "Scale1e4"}),
                          extreme_name);
+
+TEST(ExtremeSceneScale, RayOffsetsScaleWithTheScene) {
+  // The furnace at scales where the old absolute floor (2e-5) would be a tenth of a wall, and at 1e4: the offset of a
+  // spawned ray stays the same fraction of the cube's side (4·scale).
+  TempDir dir("offset");
+  for (const double scale : {1e-6, 1e-3, 1.0, 1e4}) {
+    const auto scene = furnace(dir.path, scale, 1);
+    const geometry::SurfacePoint p = geometry::surface_point(scene, 0, 0, scene::Vec2(0.3f, 0.3f));
+    const scene::Vec3 out = p.spawn_origin(-p.geometric_normal), in = p.spawn_origin(p.geometric_normal);
+    const double side = 4 * scale;
+    EXPECT_NEAR(glm::length(out - p.position) / side, 1e-5, 1e-6) << "scale " << scale;
+    EXPECT_NEAR(glm::length(in - p.position) / side, 1e-5, 1e-6) << "scale " << scale;
+  }
+}
 
 TEST(ExtremeRadianceScale, IsOneInsideTheMeasuredWindowAndAPowerOfTenOutside) {
   TempDir dir("scale");
