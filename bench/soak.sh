@@ -6,9 +6,9 @@
 #
 # Prints one row per sample (seconds, VmRSS MiB, device MiB) and a verdict; exits 1 when memory grew or a loss
 # was not finite. Device memory comes from nvidia-smi where it exists; on PoCL the device's buffers are host memory
-# and already in VmRSS. "Flat": the mean of the last quarter of samples is within GROWTH_PCT (default 5 %) of the
-# mean of the second quarter (the first is warm-up: buffers grow to the batch, kernels compile). A leak of one
-# batch's buffers per step would double memory within seconds; 5 % leaves room for allocator noise.
+# and already in VmRSS. "Flat": the VmRSS slope over the last half of the samples (the first half is warm-up),
+# projected over the whole run, is within GROWTH_PCT (default 5 %) of the mean. A leak of one batch's buffers per
+# step would double memory within seconds; 5 % leaves room for allocator noise.
 set -euo pipefail
 
 scene=${1:?usage: soak.sh SCENE.xml MINUTES [INTERVAL_S] [CLRADIOSITY] [-- train options]}
@@ -53,17 +53,19 @@ steps=$(tail -n 1 "$log" | cut -d, -f1)
 # Columns: step, seconds, loss, lookups, non_finite, … (README). A NaN loss would print as nan or -nan.
 bad_loss=$(awk -F, 'NR > 1 && ($3 ~ /nan|inf/) { n++ } END { print n + 0 }' "$log")
 dropped=$(awk -F, 'NR > 1 { s += $5 } END { print s + 0 }' "$log")
-verdict=$(awk -F, -v g="$growth_pct" 'NR > 1 { r[++n] = $2 }
+verdict=$(awk -F, -v g="$growth_pct" 'NR > 1 { t[++n] = $1; r[n] = $2; if ($2 > peak) peak = $2 }
   END {
     if (n < 8) { print "too few samples (" n ") to judge"; exit }
-    q = int(n / 4)
-    for (i = q + 1; i <= 2 * q; i++) a += r[i]
-    for (i = n - q + 1; i <= n; i++) b += r[i]
-    a /= q; b /= q
-    printf "%s: VmRSS %.1f MiB (2nd quarter) -> %.1f MiB (last quarter), %+.2f %%, peak %.1f MiB\n",
-      (b - a) / a * 100 <= g ? "flat" : "GREW", a, b, (b - a) / a * 100, max(r, n)
-  }
-  function max(x, n,   m, i) { m = x[1]; for (i = 2; i <= n; i++) if (x[i] > m) m = x[i]; return m }' "$samples")
+    # Least-squares slope of VmRSS over the last half (the first holds warm-up: grow-only buffers reach the largest
+    # batch, the host copies of the first checkpoint), projected over the whole run.
+    h = int(n / 2)
+    for (i = h + 1; i <= n; i++) { m++; st += t[i]; sr += r[i]; stt += t[i] * t[i]; str += t[i] * r[i] }
+    slope = (m * str - st * sr) / (m * stt - st * st)  # MiB per second
+    mean = sr / m
+    grow = slope * t[n] / mean * 100
+    printf "%s: VmRSS %.1f MiB after warm-up (peak %.1f), slope %+.3f MiB/min over the last half = %+.2f %% over the run\n",
+      grow <= g ? "flat" : "GREW", mean, peak, slope * 60, grow
+  }' "$samples")
 echo "soak: $steps steps in $minutes min; $verdict; non-finite losses in log.csv: $bad_loss; dropped samples: $dropped"
 echo "soak: samples in $samples, run in $run/run"
 [[ $verdict == flat* && $bad_loss == 0 ]]
