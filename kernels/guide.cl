@@ -41,6 +41,8 @@ __kernel void guide_loss(uint points, uint samples, __global const float* lobes,
       ++bad;
   }
   const float F = f_sum / (float)samples;
+  // Finite terms can still overflow their sum (radiance near FLT_MAX): the point then teaches nothing, and counts.
+  if (!isfinite(F)) ++bad;
   float loss = 0.0f;
   // F = 0: no sample saw light, so the samples say nothing about where q should go.
   if (F > 0.0f && isfinite(F)) {

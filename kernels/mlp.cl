@@ -66,3 +66,9 @@ __kernel void abs_f32(uint n, __global const float* in, __global float* out, uin
   const uint i = (uint)get_global_id(0);
   if (i < n) out[off + i] = fabs(in[off + i]);
 }
+
+// x[off + i] *= s for i < n (an output scale, nn/network.hpp).
+__kernel void scale_f32(uint n, float s, __global float* x, uint off) {
+  const uint i = (uint)get_global_id(0);
+  if (i < n) x[off + i] *= s;
+}

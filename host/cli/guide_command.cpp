@@ -6,6 +6,7 @@
 
 #include "cl/context.hpp"
 #include "cli/command.hpp"
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "geometry/geometry.hpp"
 #include "radiosity/guide_view.hpp"
@@ -69,6 +70,8 @@ Command add_guide_command(CLI::App& app) {
             if (!(px >= 0 && px < float(width) && py >= 0 && py < float(height)))
               throw InputError("--pixel " + std::to_string(px) + "," + std::to_string(py) + " is outside the " +
                                std::to_string(width) + "×" + std::to_string(height) + " image");
+            require_output_path(opt->output, "-o");
+            if (!opt->exr.empty()) require_output_path(opt->exr, "--exr");
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
             const std::filesystem::path run = opt->model;

@@ -5,6 +5,7 @@
 
 #include "cl/error.hpp"
 #include "cli/command.hpp"
+#include "cli/failure_message.hpp"
 #include "common/error.hpp"
 
 namespace clr::cli {
@@ -33,10 +34,14 @@ int main(int argc, char** argv) {
       clr::cli::add_guide_command(app),
   };
 
+  std::string command;  // names the options to lower when memory runs out
   try {
     app.parse(argc, argv);
     for (const auto& c : commands)
-      if (c.app->parsed()) return c.run();
+      if (c.app->parsed()) {
+        command = c.app->get_name();
+        return c.run();
+      }
     return clr::cli::run_main_job(kMainJobMinutes);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
@@ -51,7 +56,7 @@ int main(int argc, char** argv) {
     std::cerr << "clradiosity: error: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "clradiosity: failed: " << e.what() << "\n";
+    std::cerr << "clradiosity: failed: " << clr::cli::failure_message(e, command) << "\n";
     return 1;
   }
 }

@@ -1,7 +1,10 @@
 #include "common/atomic_file.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <stdexcept>
 
@@ -25,13 +28,27 @@ void write_then(const fs::path& tmp, const std::function<void(const fs::path&)>&
 }
 
 // Copies a finished temporary into a target that must not be replaced (a device, FIFO, socket).
+// Plain write(2), so that the reason of a failure (ENOSPC on a full disk, /dev/full) reaches the message.
 void copy_into(const fs::path& from, const fs::path& to) {
   std::ifstream in(from, std::ios::binary);
-  std::ofstream out(to, std::ios::binary);
-  if (!out) throw std::runtime_error("cannot open " + to.string() + " for writing");
-  out << in.rdbuf();
-  out.flush();
-  if (!out || !in) throw std::runtime_error("writing " + to.string() + " failed");
+  const int fd = ::open(to.c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd < 0) throw std::runtime_error("cannot open " + to.string() + " for writing: " + std::strerror(errno));
+  char buffer[1 << 16];
+  while (in) {
+    in.read(buffer, sizeof buffer);
+    for (std::streamsize done = 0, n = in.gcount(); done < n;) {
+      const ssize_t w = ::write(fd, buffer + done, std::size_t(n - done));
+      if (w < 0 && errno == EINTR) continue;
+      if (w <= 0) {
+        const int err = w < 0 ? errno : ENOSPC;
+        ::close(fd);
+        throw std::runtime_error("writing " + to.string() + " failed: " + std::strerror(err));
+      }
+      done += w;
+    }
+  }
+  if (::close(fd) != 0) throw std::runtime_error("writing " + to.string() + " failed: " + std::strerror(errno));
+  if (in.bad()) throw std::runtime_error("reading back the temporary for " + to.string() + " failed");
 }
 
 }  // namespace
@@ -58,9 +75,32 @@ void write_atomically(const fs::path& requested, const std::function<void(const 
   write_then(tmp, write, [&] { fs::rename(tmp, path); });
 }
 
+void require_writable_directory(const fs::path& dir, const std::string& what) {
+  const fs::path probe = dir / (".clradiosity-probe" + std::to_string(::getpid()));
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) {
+    const int err = errno;
+    const std::string line = what + " " + dir.string() + ": " + std::strerror(err);
+    // A full disk or a failing device is not the user's path; everything else is (exit 2, DESIGN.md §4).
+    if (err == ENOSPC || err == EIO || err == EDQUOT || err == ENOMEM) throw std::runtime_error(line);
+    throw InputError(line);
+  }
+  ::close(fd);
+  ::unlink(probe.c_str());
+}
+
 void require_output_path(const fs::path& path, const std::string& option) {
   std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError(option + ": output " + path.string() + " is a directory");
+  const fs::file_status status = fs::status(path, ec);
+  if (fs::is_directory(status)) throw InputError(option + ": output " + path.string() + " is a directory");
+  // A device or FIFO is written through (write_atomically), its folder never gets a file.
+  if (fs::exists(status) && !fs::is_regular_file(status)) return;
+  // write_atomically creates missing folders, so the nearest one that exists must take new entries.
+  fs::path dir = fs::absolute(path, ec).parent_path();
+  while (!dir.empty() && !fs::exists(dir, ec) && dir != dir.parent_path()) dir = dir.parent_path();
+  if (!fs::is_directory(dir, ec))
+    throw InputError(option + ": cannot write " + path.string() + ": " + dir.string() + " is not a directory");
+  require_writable_directory(dir, option + ": cannot write " + path.string() + " in");
 }
 
 void write_text_atomically(const fs::path& path, std::string_view text) {

@@ -18,8 +18,14 @@ void write_atomically(const std::filesystem::path& path,
                       const std::function<void(const std::filesystem::path&)>& write);
 void write_text_atomically(const std::filesystem::path& path, std::string_view text);
 
-// InputError "<option>: <path> is a directory" when an output cannot be written there. Commands check their
-// outputs before the work that produces them, so a typo does not cost a whole render.
+// InputError "<option>: …" naming the path when an output cannot be written there: a directory, a parent that is a
+// file (/etc/hostname/x), a folder that refuses new files (read-only, /proc). Commands check their outputs before
+// the work that produces them, so a typo does not cost a whole render.
 void require_output_path(const std::filesystem::path& path, const std::string& option);
+
+// Creates and removes a probe file in `dir`, the way write_atomically will create its temporary there: InputError
+// "<what> <dir>: <reason>" when that fails for a reason of the path (permissions, read-only, not a directory), a
+// std::runtime_error when the system is at fault (a full disk, an I/O error).
+void require_writable_directory(const std::filesystem::path& dir, const std::string& what);
 
 }  // namespace clr

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 
 namespace clr {
@@ -18,7 +19,17 @@ RunLock::RunLock(const std::filesystem::path& dir, bool create) {
     throw InputError("run directory " + dir.string() + " exists and is not a directory");
   if (!create && !std::filesystem::exists(dir, ec))
     throw InputError("run directory " + dir.string() + " does not exist (no checkpoint to resume)");
-  std::filesystem::create_directories(dir);
+  // The run directory is the user's -o: a path through a file (/etc/hostname/x), a read-only or pseudo file
+  // system are theirs to fix (exit 2), and it is better found before the networks are built than at the first
+  // checkpoint.
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    const bool system_fault = ec == std::errc::no_space_on_device || ec == std::errc::io_error;
+    const std::string line = "run directory " + dir.string() + " cannot be created: " + ec.message();
+    if (system_fault) throw std::runtime_error(line);
+    throw InputError(line);
+  }
+  require_writable_directory(dir, "run directory");
   fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd_ < 0) throw std::runtime_error("cannot open run directory " + dir.string() + ": " + std::strerror(errno));
   // Non-blocking: waiting for another run to finish could take hours; the user should choose instead.

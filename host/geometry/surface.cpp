@@ -27,8 +27,11 @@ Vec3 bump_normal(const scene::BumpMap& b, const Vec3& n, const Vec3& dpdu, const
 }  // namespace
 
 Vec3 SurfacePoint::spawn_origin(const Vec3& dir) const {
-  const float magnitude = std::max({std::fabs(position.x), std::fabs(position.y), std::fabs(position.z), 1.0f});
-  const float offset = 2e-5f * magnitude;
+  // The magnitude once had a floor of 1: an absolute 2e-5 that is 0.5 % of a wall in a scene 4e-3 across, and would
+  // jump over whole walls below that. The triangle's own extent bounds the error instead; a hand-built point
+  // (extent 0) at the origin keeps the old floor.
+  const float magnitude = std::max({std::fabs(position.x), std::fabs(position.y), std::fabs(position.z), extent});
+  const float offset = 2e-5f * (magnitude > 0 ? magnitude : 1.0f);
   return position + geometric_normal * (glm::dot(geometric_normal, dir) > 0 ? offset : -offset);
 }
 
@@ -42,6 +45,8 @@ SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::
   p.prim = prim;
   const Vec3 p0 = m.positions[t.x], p1 = m.positions[t.y], p2 = m.positions[t.z];
   p.position = b0 * p0 + b.x * p1 + b.y * p2;
+  const Vec3 largest = glm::max(glm::max(glm::abs(p0), glm::abs(p1)), glm::abs(p2));
+  p.extent = std::max({largest.x, largest.y, largest.z});
   const Vec3 e1 = p1 - p0, e2 = p2 - p0;
   const Vec3 ng = glm::cross(e1, e2);
   const float len = glm::length(ng);

@@ -17,9 +17,13 @@ struct SurfacePoint {
   scene::Frame frame;     // shading frame: z = interpolated (and possibly bump-mapped) normal
   Vec2 uv;
   std::uint32_t shape = 0, prim = 0;
+  // The largest |coordinate| of the triangle's vertices: the position and Embree's hits carry float error relative
+  // to it. 0 where unknown (a point built by hand).
+  float extent = 0;
 
   // A ray origin leaving the surface towards `dir`, pushed off the triangle's plane on the side `dir` points to,
-  // by an amount relative to the coordinates' magnitude (float positions carry relative error).
+  // by an amount relative to the coordinates' magnitude (float positions carry relative error) — never an absolute
+  // one, so that a scene scaled by any factor is offset alike (tests/radiosity/extremes_test.cpp).
   Vec3 spawn_origin(const Vec3& dir) const;
   // The BSDF at this point in world space (BsdfPoint converts directions to the shading frame).
   scene::BsdfPoint bsdf(const scene::Scene& s) const { return {&s.bsdf(s.shapes[shape]), frame, uv}; }

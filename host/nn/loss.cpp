@@ -11,9 +11,11 @@ Loss::Loss(cl::Context& ctx)
 }
 
 void Loss::evaluate(const cl::Buffer<float>& pred, const cl::Buffer<float>& target, std::size_t n, float scale,
-                    float power, cl::Buffer<float>& grad) {
+                    float power, cl::Buffer<float>& grad, float target_scale) {
   constexpr std::size_t local = 64;  // a power of two: the kernel's tree reduction needs one
-  kernel_.args(u32(n), pred, target, scale, power, grad, total_, non_finite_, cl::LocalMemory{local * sizeof(float)})
+  kernel_
+      .args(u32(n), pred, target, target_scale, scale, power, grad, total_, non_finite_,
+            cl::LocalMemory{local * sizeof(float)})
       .launch(n, local);
 }
 

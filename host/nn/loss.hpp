@@ -18,8 +18,10 @@ class Loss {
  public:
   explicit Loss(cl::Context& ctx);
   // grad[i] = scale · dL/dpred[i] for i < n; enqueues only (no sync), accumulating into the running value.
+  // `target_scale` multiplies the target first: a network trained in units of its output scale s
+  // (NetworkConfig::output_scale) compares its raw output with target / s, so the 0.01 is 0.01·s² in radiance.
   void evaluate(const cl::Buffer<float>& pred, const cl::Buffer<float>& target, std::size_t n, float scale, float power,
-                cl::Buffer<float>& grad);
+                cl::Buffer<float>& grad, float target_scale = 1.0f);
   // Reads and resets the accumulated value (a sync point: call it only when the value is needed).
   LossValue take();
 

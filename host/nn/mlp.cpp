@@ -18,7 +18,8 @@ Mlp::Mlp(cl::Context& ctx, Gemm& gemm, MlpConfig config, std::uint64_t seed)
       config_(config),
       act_backward_(ctx.program({"mlp.cl"}).kernel("act_backward_bias_grad")),
       bias_reduce_(ctx.program({"mlp.cl"}).kernel("bias_grad_reduce")),
-      abs_(ctx.program({"mlp.cl"}).kernel("abs_f32")) {
+      abs_(ctx.program({"mlp.cl"}).kernel("abs_f32")),
+      scale_(ctx.program({"mlp.cl"}).kernel("scale_f32")) {
   if (config_.inputs == 0 || config_.width == 0 || config_.outputs == 0)
     throw std::invalid_argument("mlp: inputs, width and outputs must be positive");
   std::size_t total = 0;
@@ -214,6 +215,8 @@ void Mlp::infer(const cl::Buffer<float>& input, std::size_t rows, cl::Buffer<flo
   }
   if (config_.output_activation == OutputActivation::Abs)
     abs_.args(u32(rows * O), output, output, u32(out_row * O)).launch(rows * O);
+  if (config_.output_scale != 1.0f)
+    scale_.args(u32(rows * O), config_.output_scale, output, u32(out_row * O)).launch(rows * O);
 }
 
 }  // namespace clr::nn

@@ -28,6 +28,7 @@ struct MlpConfig {
   std::size_t hidden_layers = 3;
   std::size_t outputs = 32;
   OutputActivation output_activation = OutputActivation::None;
+  float output_scale = 1;              // infer() only (NetworkConfig::output_scale)
   std::size_t max_chunk_rows = 65536;  // further capped by the device's max allocation
   // Small networks where the one-launch kernel (kernels/mlp_fused.cl) applies — width and outputs multiples of 16
   // and ≤ 64, 1-4 hidden layers, no output activation (the I-Module) — take it or the per-layer GEMMs: Probe times
@@ -91,7 +92,7 @@ class Mlp {
   void fused_forward(const cl::Buffer<float>& input, std::size_t x_row, std::size_t rows, cl::Buffer<float>& out,
                      std::size_t out_row, const std::vector<cl::Buffer<float>>* hidden, std::size_t hidden_base);
 
-  cl::Kernel act_backward_, bias_reduce_, abs_;
+  cl::Kernel act_backward_, bias_reduce_, abs_, scale_;
   std::optional<cl::Kernel> fused_;
 };
 

@@ -21,6 +21,7 @@ MlpConfig mlp_config(const NetworkConfig& c, std::size_t inputs) {
   m.hidden_layers = c.hidden_layers;
   m.outputs = c.outputs;
   m.output_activation = c.output_activation;
+  m.output_scale = c.output_scale;
   m.max_chunk_rows = c.max_chunk_rows;
   return m;
 }
@@ -102,17 +103,20 @@ nlohmann::json to_json(const NetworkConfig& c) {
   } else {
     enc["grid"] = nullptr;
   }
-  return {{"encoder", enc},
-          {"width", c.width},
-          {"hidden_layers", c.hidden_layers},
-          {"outputs", c.outputs},
-          {"output_activation", c.output_activation == OutputActivation::Abs ? "abs" : "none"},
-          {"max_chunk_rows", c.max_chunk_rows},
-          {"adam", adam_json(c.adam)},
-          {"gemm", c.gemm == GemmChoice::Own       ? "own"
-                   : c.gemm == GemmChoice::CLBlast ? "clblast"
-                                                   : "auto"},
-          {"seed", c.seed}};
+  nlohmann::json j = {{"encoder", enc},
+                      {"width", c.width},
+                      {"hidden_layers", c.hidden_layers},
+                      {"outputs", c.outputs},
+                      {"output_activation", c.output_activation == OutputActivation::Abs ? "abs" : "none"},
+                      {"max_chunk_rows", c.max_chunk_rows},
+                      {"adam", adam_json(c.adam)},
+                      {"gemm", c.gemm == GemmChoice::Own       ? "own"
+                               : c.gemm == GemmChoice::CLBlast ? "clblast"
+                                                               : "auto"},
+                      {"seed", c.seed}};
+  // Written only where it is not 1, so that runs (and checkpoints) from before it existed compare equal.
+  if (c.output_scale != 1.0f) j["output_scale"] = shortest(c.output_scale);
+  return j;
 }
 
 namespace {
@@ -145,6 +149,8 @@ void validate(const NetworkConfig& c) {
   require(c.hidden_layers >= 1 && c.hidden_layers <= 64, "hidden_layers", c.hidden_layers, "in [1, 64]");
   require(c.outputs >= 1 && c.outputs <= 4096, "outputs", c.outputs, "in [1, 4096]");
   require(c.max_chunk_rows >= 1, "max_chunk_rows", c.max_chunk_rows, ">= 1");
+  // Beyond these the scaled outputs, or their reciprocal in the loss, leave float's normal range.
+  require(c.output_scale >= 1e-30f && c.output_scale <= 1e30f, "output_scale", c.output_scale, "in [1e-30, 1e30]");
   const auto& a = c.adam;
   // Adam moves each parameter by about the learning rate per step: above 1 nothing converges.
   require(std::isfinite(a.learning_rate) && a.learning_rate > 0 && a.learning_rate <= 1, "adam.learning_rate",
@@ -205,6 +211,7 @@ NetworkConfig network_config_from_json(const nlohmann::json& j) {
     if (act != "none" && act != "abs") throw InputError("output_activation '" + act + "' is not none or abs");
     c.output_activation = act == "abs" ? OutputActivation::Abs : OutputActivation::None;
     get(j, "", "max_chunk_rows", c.max_chunk_rows);
+    get(j, "", "output_scale", c.output_scale);
     get(j, "", "gemm", gemm);
     c.gemm = parse_gemm_choice(gemm);
     get(j, "", "seed", c.seed);

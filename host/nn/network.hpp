@@ -25,6 +25,10 @@ struct NetworkConfig {
   std::size_t hidden_layers = 3;
   std::size_t outputs = 32;
   OutputActivation output_activation = OutputActivation::None;
+  // infer() returns output_scale × the MLP's output; forward_train's outputs (what a loss sees) stay in units of
+  // output_scale, the units in which the initial weights and Adam's step sizes fit. The N-Module's is the scene's
+  // radiance scale (radiosity/radiance_scale.hpp), so a scene emitting 1e5 trains as one emitting 1.
+  float output_scale = 1;
   std::size_t max_chunk_rows = 65536;
   AdamConfig adam;
   GemmChoice gemm = GemmChoice::Auto;  // the engine config's `gemm: auto|own|clblast`

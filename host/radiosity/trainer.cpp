@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -13,6 +14,7 @@
 #include "common/progress.hpp"
 #include "common/stop_signal.hpp"
 #include "nn/checkpoint.hpp"
+#include "radiosity/radiance_scale.hpp"
 #include "radiosity/trained_model.hpp"
 
 namespace clr::radiosity {
@@ -76,6 +78,7 @@ nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, co
   nn::NetworkConfig base = nn::n_module_config(in.lo, in.hi);
   base.width = default_width(device);
   base.encoder.albedo = in.albedo_varies;
+  base.output_scale = radiance_scale(geometry.scene());
   base.seed = config.seed;
   return patched(base, config.network);
 }
@@ -88,6 +91,25 @@ nn::NetworkConfig guide_network_config(const geometry::Geometry& geometry, const
   base.seed = config.seed + 1;  // apart from the N-Module's initial parameters
   return patched(base, config.guide);
 }
+
+namespace {
+
+// A run killed (SIGKILL, power loss) while writing leaves write_atomically's temporary ("model.clr.tmp<pid>")
+// beside the intact file. The caller holds the run's lock, so no live writer owns one: they are removed on resume
+// rather than left to pile up, one per kill.
+void remove_stale_temporaries(const fs::path& run_dir) {
+  for (const auto& entry : fs::directory_iterator(run_dir)) {
+    const std::string name = entry.path().filename().string();
+    for (const char* base : {"model.clr.tmp", "config.json.tmp", "log.csv.tmp"})
+      if (name.rfind(base, 0) == 0 && name.size() > std::strlen(base) &&
+          name.find_first_not_of("0123456789", std::strlen(base)) == std::string::npos && entry.is_regular_file()) {
+        std::error_code ec;
+        fs::remove(entry.path(), ec);
+      }
+  }
+}
+
+}  // namespace
 
 Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConfig config, fs::path run_dir,
                  bool resume)
@@ -103,6 +125,7 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
   const fs::path model = run_dir_ / "model.clr";
   if (resume) {
     if (!fs::exists(model)) throw InputError("--resume: no checkpoint " + model.string());
+    remove_stale_temporaries(run_dir_);
     // The run's own settings win; only the stopping rule comes from this invocation. A run written before ISNR
     // existed has no `method` in its config.json: it was vanilla NR.
     nlohmann::json saved_json = nlohmann::json::parse(read_text(run_dir_ / "config.json"));
@@ -167,7 +190,9 @@ StepStats Trainer::step() {
   if (!hold_radiance_) {
     network_->forward_train(point_rows_, M, train_ctx_);
     // Mean over points and channels, so the learning rate does not depend on the batch size.
-    loss_.evaluate(train_ctx_.output(), rhs_, M * 3, 1.0f / float(M * 3), residual_power_, d_output_);
+    // The right-hand side is in radiance (infer applies the output scale); the raw outputs are in its units.
+    loss_.evaluate(train_ctx_.output(), rhs_, M * 3, 1.0f / float(M * 3), residual_power_, d_output_,
+                   1.0f / network_->config().output_scale);
     network_->backward(train_ctx_, d_output_);
     network_->adam_step();
   }
@@ -230,10 +255,15 @@ void Trainer::run() {
     if (now % config_.log_every == 0) {
       const nn::LossValue v = loss_.take();
       const nn::LossValue g = guide_ ? incident_.vmf().take() : nn::LossValue{0, 0};
+      // Incident terms dropped while forming the right-hand side count too: they never reach the loss, so the
+      // loss's own count cannot see them.
+      const std::uint32_t rhs_dropped = non_finite_.read()[0];
+      non_finite_.fill(0u);
       loss_sum = v.loss / double(loss_steps);
       char row[256];
       std::snprintf(row, sizeof row, "%ld,%.3f,%.6g,%.3f,%u,%.6g,%.4g", now, seconds_before_ + elapsed(), loss_sum,
-                    double(lookups) / double(loss_steps * config_.batch * config_.samples), v.non_finite + g.non_finite,
+                    double(lookups) / double(loss_steps * config_.batch * config_.samples),
+                    v.non_finite + g.non_finite + rhs_dropped,
                     lr_scale * double(network_->config().adam.learning_rate_at(std::uint64_t(now))),
                     double(residual_power_));
       std::string line = row;

@@ -1,0 +1,43 @@
+// The runtime-failure line: out-of-memory errors name the options that size the command's buffers.
+#include "cli/failure_message.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <new>
+
+#include "cl/error.hpp"
+
+namespace clr::test {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+cl::Error cl_error(cl_int status) {
+  return cl::Error(status, "clCreateBuffer(...) failed with " + cl::status_name(status) + " at buffer.hpp:1");
+}
+
+TEST(FaultMessage, OutOfDeviceMemoryNamesTheOptionsToLower) {
+  for (const cl_int status :
+       {CL_OUT_OF_RESOURCES, CL_MEM_OBJECT_ALLOCATION_FAILURE, CL_INVALID_BUFFER_SIZE, CL_OUT_OF_HOST_MEMORY}) {
+    const std::string train = cli::failure_message(cl_error(status), "train");
+    EXPECT_THAT(train, HasSubstr(cl::status_name(status))) << "the original error stays in the line";
+    EXPECT_THAT(train, HasSubstr("--batch"));
+    EXPECT_THAT(train, HasSubstr("--samples"));
+    EXPECT_THAT(cli::failure_message(cl_error(status), ""), HasSubstr("--batch")) << "the main job trains too";
+    EXPECT_THAT(cli::failure_message(cl_error(status), "residual"), HasSubstr("--points"));
+    EXPECT_THAT(cli::failure_message(cl_error(status), "render"), HasSubstr("--device"));
+  }
+  EXPECT_THAT(cli::failure_message(std::bad_alloc(), "train"), HasSubstr("--batch"));
+}
+
+TEST(FaultMessage, OtherErrorsAreLeftAsTheyAre) {
+  const std::string line = cli::failure_message(cl_error(CL_INVALID_KERNEL_ARGS), "train");
+  EXPECT_EQ(line, cl_error(CL_INVALID_KERNEL_ARGS).what());
+  EXPECT_THAT(cli::failure_message(std::runtime_error("writing /dev/full failed"), "train"), Not(HasSubstr("--batch")));
+  for (const char c : line) EXPECT_NE(c, '\n') << "one line";
+}
+
+}  // namespace
+}  // namespace clr::test

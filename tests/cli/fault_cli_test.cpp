@@ -1,0 +1,205 @@
+// Faults a run meets (issue 16): SIGTERM, SIGKILL while training and while a checkpoint is being written, and
+// outputs that cannot be written. Each must leave a checkpoint that loads, or no file at all, and one clear line.
+#include <fcntl.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <thread>
+
+#include "cl/device.hpp"
+#include "nn/checkpoint.hpp"
+#include "support/run_cli.hpp"
+
+namespace clr::test {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+const std::string kBox = (fs::path(CLR_SOURCE_DIR) / "scenes" / "cornell-box.xml").string();
+
+class FaultCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL device";
+    dir = fs::temp_directory_path() / ("clr_fault_cli_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    config = (dir / "small.json").string();
+    // checkpoint_every 1: a checkpoint is written after every step, so a kill at a random time often lands in
+    // the middle of a write.
+    std::ofstream(config) << R"({"batch": 256, "log_every": 1, "checkpoint_every": 1, "network": {"width": 32,
+        "hidden_layers": 2, "encoder": {"grid": {"levels": 4, "log2_table": 12}}}})";
+  }
+  void TearDown() override { fs::remove_all(dir); }
+
+  // Starts `train` on the Cornell box in the background with its output discarded.
+  pid_t start_training(const fs::path& run, bool resume) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+      const int null = ::open("/dev/null", O_WRONLY);
+      dup2(null, 1);
+      dup2(null, 2);
+      if (resume)
+        execl(CLR_CLI_PATH, "clradiosity", "train", kBox.c_str(), "--resume", "--steps", "100000000", "-o", run.c_str(),
+              static_cast<char*>(nullptr));
+      else
+        execl(CLR_CLI_PATH, "clradiosity", "train", kBox.c_str(), "--steps", "100000000", "--config", config.c_str(),
+              "-o", run.c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    return pid;
+  }
+
+  fs::path dir;
+  std::string config;
+};
+
+std::size_t lines_in(const fs::path& p) {
+  std::ifstream in(p);
+  return std::size_t(std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n'));
+}
+
+bool wait_for_lines(const fs::path& log, std::size_t n) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (lines_in(log) < n && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  return lines_in(log) >= n;
+}
+
+TEST_F(FaultCli, TerminateWritesACheckpointAndExitsCleanly) {
+  // SIGTERM (what `kill`, systemd and batch schedulers send) must behave as Ctrl-C does.
+  const fs::path run = dir / "run";
+  const pid_t pid = start_training(run, false);
+  ASSERT_GE(pid, 0);
+  ASSERT_TRUE(wait_for_lines(run / "log.csv", 3)) << "training did not start logging";
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_NO_THROW(nn::read_checkpoint((run / "model.clr").string()));
+}
+
+bool temporary_in(const fs::path& run) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(run, ec))
+    if (entry.path().filename().string().rfind("model.clr.tmp", 0) == 0) return true;
+  return false;
+}
+
+TEST_F(FaultCli, KillAtRandomTimesLeavesALoadableCheckpointAndResumes) {
+  // SIGKILL cannot be caught: only the write order (temporary file, then rename) protects model.clr. A checkpoint
+  // every step makes writes frequent. Odd rounds kill at a random moment; even rounds kill as soon as a checkpoint's
+  // temporary appears, i.e. during a write. After each the file must load and the run resume from it.
+  const fs::path run = dir / "run";
+  std::mt19937 rng(16);
+  std::uniform_int_distribution<int> delay_ms(0, 400);
+  std::uint64_t last_step = 0;
+  int mid_write = 0;  // kills that left a temporary behind: they certainly landed during a write
+  for (int round = 0; round < 6; ++round) {
+    const pid_t pid = start_training(run, round > 0);
+    ASSERT_GE(pid, 0);
+    // Let it log a row of this session first, and have written a first checkpoint: a kill during the very first
+    // write leaves no model.clr at all, and nothing to resume (`--resume` then says so, exit 2).
+    const std::size_t rows = lines_in(run / "log.csv");
+    ASSERT_TRUE(wait_for_lines(run / "log.csv", rows + 2)) << "round " << round << ": no progress";
+    const auto first = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!fs::exists(run / "model.clr") && std::chrono::steady_clock::now() < first)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (round % 2 == 0) {
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+      while (!temporary_in(run) && std::chrono::steady_clock::now() < deadline) {
+      }
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+    }
+    ::kill(pid, SIGKILL);
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFSIGNALED(status));
+    mid_write += temporary_in(run);
+    nn::Checkpoint c;
+    ASSERT_NO_THROW(c = nn::read_checkpoint((run / "model.clr").string())) << "round " << round;
+    EXPECT_GE(c.step, last_step) << "round " << round << ": the checkpoint went back in time";
+    last_step = c.step;
+  }
+  std::printf("%d of 6 kills landed while a checkpoint was being written\n", mid_write);
+  // The survivor renders, and a resume continues from it.
+  auto r =
+      run_cli("render " + kBox + " --model " + run.string() + " --width 8 --height 8 -o " + (dir / "out.exr").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  r = run_cli("train " + kBox + " --resume --steps " + std::to_string(last_step + 2) + " -o " + run.string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nn::read_checkpoint((run / "model.clr").string()).step, last_step + 2);
+  EXPECT_FALSE(temporary_in(run)) << "a resume removes the temporaries that kills left";
+}
+
+// The lines of `err` that are the command's error (progress lines aside).
+std::size_t error_lines(const std::string& err) {
+  std::size_t n = 0;
+  for (std::size_t at = err.find("clradiosity:"); at != std::string::npos; at = err.find("clradiosity:", at + 1)) ++n;
+  return n;
+}
+
+TEST_F(FaultCli, UnwritableOutputsExitTwoBeforeTheWork) {
+  // A path through a regular file cannot be created by anyone, root included (chmod does not stop root).
+  const fs::path file = dir / "plain";
+  std::ofstream(file) << "x";
+  struct Case {
+    std::string args, culprit;
+  };
+  std::vector<Case> cases = {
+      {"train " + kBox + " --steps 1 --config " + config + " -o " + (file / "run").string(), (file / "run").string()},
+      {"reference " + kBox + " --spp 1 --width 8 --height 8 -o " + (file / "x.exr").string(),
+       (file / "x.exr").string()},
+      {"reference " + kBox + " --spp 1 --width 8 --height 8 -o " + (file / "deeper" / "x.exr").string(),
+       (file / "deeper" / "x.exr").string()},
+  };
+  // /proc takes no new files: its regular-looking files cannot be replaced through a temporary.
+  if (fs::exists("/proc/version"))
+    cases.push_back({"reference " + kBox + " --spp 1 --width 8 --height 8 -o /proc/version", "/proc/version"});
+  if (::geteuid() != 0) {
+    const fs::path locked = dir / "locked";
+    fs::create_directories(locked);
+    fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
+    cases.push_back({"train " + kBox + " --steps 1 -o " + (locked / "run").string(), (locked / "run").string()});
+    cases.push_back({"reference " + kBox + " --spp 1 -o " + (locked / "x.exr").string(), (locked / "x.exr").string()});
+  }
+  for (const auto& c : cases) {
+    const auto r = run_cli(c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;
+    EXPECT_EQ(error_lines(r.err), 1u) << r.err;
+    EXPECT_THAT(r.err, HasSubstr(c.culprit)) << c.args;
+    // Checked before the work: a reference render of any size would print its progress first.
+    EXPECT_THAT(r.err, Not(HasSubstr("100.0%"))) << c.args;
+  }
+  if (::geteuid() != 0) fs::permissions(dir / "locked", fs::perms::owner_all, fs::perm_options::replace);
+}
+
+TEST_F(FaultCli, AFullDeviceExitsOneAndNamesTheReason) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  // /dev/full fails every write with ENOSPC: the disk-full case, written through as a device is.
+  const auto r = run_cli("reference " + kBox + " --spp 1 --width 8 --height 8 -o /dev/full");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(error_lines(r.err), 1u) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("/dev/full"));
+  EXPECT_THAT(r.err, HasSubstr(std::strerror(ENOSPC)));
+  // The whole image was made in a temporary first; it does not outlive the failure.
+  for (const auto& entry : fs::directory_iterator(fs::temp_directory_path()))
+    EXPECT_EQ(entry.path().filename().string().find("-full.tmp"), std::string::npos) << entry.path();
+}
+
+}  // namespace
+}  // namespace clr::test
