@@ -18,6 +18,7 @@
 #include "radiosity/trainer.hpp"
 #include "scene/scene.hpp"
 #include "support/cl_fixture.hpp"
+#include "support/small_training.hpp"
 
 namespace clr::test {
 namespace {
@@ -65,19 +66,6 @@ scene::Scene furnace(const fs::path& dir, double scale, double le) {
   const fs::path file = dir / "furnace.xml";
   std::ofstream(file) << furnace_xml(scale, le);
   return scene::load_scene(file);
-}
-
-// The small network of trainer_test.cpp's furnace test (width 128, 2 hidden layers, a 6-level grid).
-radiosity::TrainConfig small_config(long steps) {
-  radiosity::TrainConfig c;
-  c.steps = steps;
-  c.batch = 1024;
-  c.log_every = 10;
-  c.checkpoint_every = 1000000;
-  c.network = {{"width", 128},
-               {"hidden_layers", 2},
-               {"encoder", {{"grid", {{"levels", 6}, {"log2_table", 14}, {"base_resolution", 4}}}}}};
-  return c;
 }
 
 // Sum of log.csv's non_finite column (the 5th).

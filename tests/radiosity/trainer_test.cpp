@@ -14,6 +14,7 @@
 #include "reference/path_tracer.hpp"
 #include "scene/scene.hpp"
 #include "support/cl_fixture.hpp"
+#include "support/small_training.hpp"
 
 namespace clr::test {
 namespace {
@@ -21,21 +22,6 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 const fs::path kScenes = fs::path(CLR_SOURCE_DIR) / "scenes";
-
-// A network small enough that a few hundred steps take seconds on PoCL, still with every part of the encoder.
-// Width 128, not 64: at width 64 the furnace stalled at a relative loss of 0.03–0.16 for 3 of 4 seeds, while
-// width 128 converged for all four.
-radiosity::TrainConfig small_config(long steps) {
-  radiosity::TrainConfig c;
-  c.steps = steps;
-  c.batch = 1024;
-  c.log_every = 10;
-  c.checkpoint_every = 1000000;
-  c.network = {{"width", 128},
-               {"hidden_layers", 2},
-               {"encoder", {{"grid", {{"levels", 6}, {"log2_table", 14}, {"base_resolution", 4}}}}}};
-  return c;
-}
 
 class TempRun {
  public:
