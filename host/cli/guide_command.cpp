@@ -68,8 +68,8 @@ Command add_guide_command(CLI::App& app) {
             const int height = opt->height > 0 ? opt->height : scene.camera.height;
             const float px = opt->pixel[0], py = opt->pixel[1];
             if (!(px >= 0 && px < float(width) && py >= 0 && py < float(height)))
-              throw InputError("--pixel " + std::to_string(px) + "," + std::to_string(py) + " is outside the " +
-                               std::to_string(width) + "×" + std::to_string(height) + " image");
+              throw InputError("--pixel " + nlohmann::json(px).dump() + "," + nlohmann::json(py).dump() +
+                               " is outside the " + std::to_string(width) + "×" + std::to_string(height) + " image");
             require_output_path(opt->output, "-o");
             if (!opt->exr.empty()) require_output_path(opt->exr, "--exr");
             const geometry::Geometry geometry(scene);

@@ -18,7 +18,7 @@ GuideView view_guide(cl::Context& ctx, const geometry::Geometry& geometry, nn::N
   Pcg32 rng(0, 1);
   const PathEnd seen = trace_to_surface(geometry, {ray.origin, ray.tnear, ray.direction}, rng, 8);
   if (!seen.at_surface)
-    throw InputError("pixel " + std::to_string(px) + "," + std::to_string(py) +
+    throw InputError("pixel " + nlohmann::json(int(px)).dump() + "," + nlohmann::json(int(py)).dump() +
                      " sees no surface the model learns (the background, or a path lost among delta surfaces)");
   const geometry::SurfacePoint& x = seen.point;
   const scene::BsdfPoint bsdf = x.bsdf(scene);
