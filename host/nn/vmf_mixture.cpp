@@ -21,11 +21,11 @@ VmfMixture::VmfMixture(cl::Context& ctx)
   non_finite_.fill(0u);
 }
 
-void VmfMixture::decode(const cl::Buffer<float>& raw, std::size_t points) {
+void VmfMixture::decode(const cl::Buffer<float>& raw, const cl::Buffer<float>& normals, std::size_t points) {
   if (lobes_.size() < points * kVmfLobes * kLobeFloats)
     lobes_ = cl::Buffer<float>(*ctx_, points * kVmfLobes * kLobeFloats);
   points_ = points;
-  decode_.args(raw, u32(points), lobes_).launch(points);
+  decode_.args(raw, normals, u32(points), lobes_).launch(points);
 }
 
 void VmfMixture::sample(const cl::Buffer<float>& u, std::size_t samples, cl::Buffer<float>& dirs) {

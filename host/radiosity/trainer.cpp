@@ -163,7 +163,8 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
   residual_power_ = float(config_.relative_power(0.0));
   batch_settings_.points = std::size_t(config_.batch);
   batch_settings_.samples = std::size_t(config_.samples);
-  batch_settings_.bsdf_fraction = guide_ ? float(config_.bsdf_fraction) : 1.0f;
+  batch_settings_.guide = guide_ != nullptr;
+  batch_settings_.bsdf_fraction = guide_ ? float(config_.bsdf_fraction_at(0.0)) : 1.0f;
   non_finite_.fill(0u);
 }
 
@@ -247,6 +248,7 @@ void Trainer::run() {
     network_->set_learning_rate_scale(float(lr_scale));
     if (guide_) guide_->set_learning_rate_scale(float(lr_scale));
     residual_power_ = float(config_.relative_power(fraction));
+    if (guide_) batch_settings_.bsdf_fraction = float(config_.bsdf_fraction_at(fraction));
     const StepStats stats = step();
     lookups += stats.lookups;
     guided += stats.guided;
