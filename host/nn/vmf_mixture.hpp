@@ -25,6 +25,10 @@ struct GuideSamples {
   const cl::Buffer<float>& emitted;   // RGB, weighted as `weight`
   const cl::Buffer<int>& lookup;      // row of `radiance`, or −1
   const cl::Buffer<float>& radiance;  // sg(L_α) at the incident hits
+  // sg(L_α(x, ω_o)) at the points (RGB), times scattered_scale in radiance: F = ∫ f·cos·L_i, the normalisation
+  // of the target density.
+  const cl::Buffer<float>& scattered;
+  float scattered_scale = 1.0f;
 };
 
 // The normal the lobes' frame is built about: the shading normal on the side of ω_o (two-sided surfaces are lit

@@ -23,9 +23,11 @@ class IncidentSampling {
   // Device copies of the last batch's arrays (directions and bsdf_pdf only with lobes).
   cl::Buffer<float> incident_rows, weight, emitted, pdf, directions, bsdf_pdf;
   cl::Buffer<int> lookup;
-  // The guide's view of those samples, once `radiance` holds sg(L_α) at the incident rows.
-  nn::GuideSamples guide_samples(const cl::Buffer<float>& radiance) const {
-    return {directions, bsdf_pdf, pdf, weight, emitted, lookup, radiance};
+  // The guide's view of those samples, once `radiance` holds sg(L_α) at the incident rows and `scattered` (× scale)
+  // the N-Module's radiance at the points.
+  nn::GuideSamples guide_samples(const cl::Buffer<float>& radiance, const cl::Buffer<float>& scattered,
+                                 float scale) const {
+    return {directions, bsdf_pdf, pdf, weight, emitted, lookup, radiance, scattered, scale};
   }
   nn::VmfMixture& vmf() { return vmf_; }
 

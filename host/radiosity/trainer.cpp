@@ -200,7 +200,17 @@ StepStats Trainer::step() {
   if (guide_) {
     // The I-Module learns from the same samples and the N-Module's radiance before its update (sg(L_α)).
     cl::reserve(*ctx_, d_lobes_, M * nn::kVmfRaw);
-    incident_.vmf().loss(incident_.guide_samples(incident_radiance_), N, config_.is_loss == "ikl", d_lobes_);
+    // F from the N-Module at the points: the forward above kept its raw outputs (radiance / output scale); a held
+    // N-Module ran no forward.
+    float scale = network_->config().output_scale;
+    if (hold_radiance_) {
+      cl::reserve(*ctx_, point_radiance_, M * 3);
+      network_->infer(point_rows_, M, point_radiance_);
+      scale = 1.0f;
+    }
+    const cl::Buffer<float>& scattered = hold_radiance_ ? point_radiance_ : train_ctx_.output();
+    incident_.vmf().loss(incident_.guide_samples(incident_radiance_, scattered, scale), N, config_.is_loss == "ikl",
+                         d_lobes_);
     guide_->backward(guide_ctx_, d_lobes_);
     guide_->adam_step();
   }

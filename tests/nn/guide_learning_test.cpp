@@ -35,6 +35,9 @@ double cone_share_after_training(cl::Context& ctx, bool improved, int steps) {
       pdf(ctx, M * N), q(ctx, M * N), weight(ctx, M * N * 3), emitted_dev(ctx, M * N * 3), radiance(ctx, 3),
       d_raw(ctx, M * 32);
   cl::Buffer<int> lookup(ctx, M * N);
+  // F = ∫ t dω: the cone's solid angle (t = 1 inside it).
+  cl::Buffer<float> scattered(ctx, M * 3);
+  scattered.fill(float(2 * M_PI * (1 - double(cone_cos))));
   weight.fill(0.0f);
   radiance.fill(0.0f);
   lookup.fill(-1);
@@ -66,7 +69,7 @@ double cone_share_after_training(cl::Context& ctx, bool improved, int steps) {
     dirs_dev.write(dirs);
     emitted_dev.write(emitted);
     vmf.mixture_pdf(dirs_dev, bsdf_pdf, N, c, pdf, q);
-    vmf.loss({dirs_dev, bsdf_pdf, pdf, weight, emitted_dev, lookup, radiance}, N, improved, d_raw);
+    vmf.loss({dirs_dev, bsdf_pdf, pdf, weight, emitted_dev, lookup, radiance, scattered}, N, improved, d_raw);
     net.backward(fwd, d_raw);
     net.adam_step();
   }

@@ -322,7 +322,10 @@ struct GuideBatch {
   std::size_t points, samples;
   std::vector<float> dirs, bsdf_pdf, pdf, weight, emitted, radiance;
   std::vector<int> lookup;
+  std::vector<float> scattered;  // the N-Module's radiance at each point (RGB): F is its luminance
 };
+
+double luminance(const float* rgb) { return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]; }
 
 struct GuideResult {
   std::vector<float> d_raw;
@@ -336,11 +339,12 @@ GuideResult run_guide_loss(cl::Context& ctx, const std::vector<double>& raw, con
   if (radiance.empty()) radiance.assign(3, 0.0f);
   cl::Buffer<float> dirs(ctx, std::span<const float>(g.dirs)), bp(ctx, std::span<const float>(g.bsdf_pdf)),
       pdf(ctx, std::span<const float>(g.pdf)), w(ctx, std::span<const float>(g.weight)),
-      e(ctx, std::span<const float>(g.emitted)), rad(ctx, std::span<const float>(radiance));
+      e(ctx, std::span<const float>(g.emitted)), rad(ctx, std::span<const float>(radiance)),
+      scattered(ctx, std::span<const float>(g.scattered));
   cl::Buffer<int> lookup(ctx, std::span<const int>(g.lookup));
   auto out_host = with_canaries(g.points * 32);
   cl::Buffer<float> out(ctx, std::span<const float>(out_host));
-  dev.vmf().loss({dirs, bp, pdf, w, e, lookup, rad}, g.samples, improved, out);
+  dev.vmf().loss({dirs, bp, pdf, w, e, lookup, rad, scattered}, g.samples, improved, out);
   out.read(out_host);
   EXPECT_TRUE(canaries_intact(out_host, g.points * 32));
   out_host.resize(g.points * 32);
@@ -368,7 +372,7 @@ std::vector<vmf::GuideSample> twin_samples(const GuideBatch& g, std::size_t m) {
 TEST_F(ClTest, GuideKlAndIklGradientsMatchFiniteDifferences) {
   std::mt19937 rng(9);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  GuideBatch g{3, 6, {}, {}, {}, {}, {}, {}, {}};
+  GuideBatch g{3, 6, {}, {}, {}, {}, {}, {}, {}, {}};
   std::vector<double> raw;
   std::vector<dvec3> normals;
   for (std::size_t m = 0; m < g.points; ++m) {
@@ -390,6 +394,7 @@ TEST_F(ClTest, GuideKlAndIklGradientsMatchFiniteDifferences) {
     g.lookup.push_back(hit ? rows++ : -1);
   }
   for (int i = 0; i < 3 * rows; ++i) g.radiance.push_back(2 * u(rng));
+  for (std::size_t i = 0; i < 3 * g.points; ++i) g.scattered.push_back(0.1f + u(rng));
 
   for (const bool improved : {false, true}) {
     const GuideResult got = run_guide_loss(ctx(), raw, g, improved, normals);
@@ -398,13 +403,14 @@ TEST_F(ClTest, GuideKlAndIklGradientsMatchFiniteDifferences) {
       const auto samples = twin_samples(g, m);
       std::vector<double> r(raw.begin() + std::ptrdiff_t(m * 32), raw.begin() + std::ptrdiff_t(m * 32 + 32));
       const double scale = 1.0 / double(g.points);
-      loss += scale * vmf::guide_loss(r, samples, g.samples, improved, normals[m]);
+      const double F = luminance(&g.scattered[3 * m]);
+      loss += scale * vmf::guide_loss(r, samples, F, g.samples, improved, normals[m]);
       for (int i = 0; i < 32; ++i) {
         const double h = 1e-5, keep = r[std::size_t(i)];
         r[std::size_t(i)] = keep + h;
-        const double up = vmf::guide_loss(r, samples, g.samples, improved, normals[m]);
+        const double up = vmf::guide_loss(r, samples, F, g.samples, improved, normals[m]);
         r[std::size_t(i)] = keep - h;
-        const double down = vmf::guide_loss(r, samples, g.samples, improved, normals[m]);
+        const double down = vmf::guide_loss(r, samples, F, g.samples, improved, normals[m]);
         r[std::size_t(i)] = keep;
         EXPECT_TRUE(near(got.d_raw[m * 32 + std::size_t(i)], scale * (up - down) / (2 * h), {1e-2, 1e-4}))
             << (improved ? "IKL" : "KL") << " point " << m << " raw " << i;
@@ -414,18 +420,19 @@ TEST_F(ClTest, GuideKlAndIklGradientsMatchFiniteDifferences) {
   }
 }
 
-// One lit sample and one dark one: F = t/(2p̃), so p = 2p̃ at the lit sample and p̃ sets p/q by hand. IKL's gradient
-// is KL's where p > q and its negative where p < q; at p = q the IKL loss vanishes and the magnitude is KL's.
+// One lit sample (t = 1) and one dark one, F = 1/(2p̃): p = 2p̃ at the lit sample, and p̃ sets p/q by hand. IKL's
+// gradient is KL's where p > q and its negative where p < q; at p = q the IKL loss vanishes and the magnitude is KL's.
 TEST_F(ClTest, IklFlipsTheKlGradientWherePIsBelowQ) {
   std::mt19937 rng(4);
   const auto raw = random_mixture(rng, std::log(30.0));
   const dvec3 w = random_direction(rng);
   const double q = vmf::pdf(raw, w);
   for (const double ratio : {4.0, 0.25, 1.0}) {  // p / q
-    GuideBatch g{1, 2, {}, {1.0f, 1.0f}, {}, {}, {}, {}, {-1, -1}};
+    GuideBatch g{1, 2, {}, {1.0f, 1.0f}, {}, {}, {}, {}, {-1, -1}, {}};
     for (int i = 0; i < 2; ++i)
       for (int c = 0; c < 3; ++c) g.dirs.push_back(float(w[c]));
     g.pdf = {float(ratio * q / 2), 1.0f};
+    g.scattered.assign(3, float(1 / (ratio * q)));  // grey: its luminance is F
     g.emitted = {1, 1, 1, 0, 0, 0};
     g.weight.assign(6, 0.0f);
     const auto kl = run_guide_loss(ctx(), raw, g, false), ikl = run_guide_loss(ctx(), raw, g, true);

@@ -81,13 +81,10 @@ struct GuideSample {
   dvec3 w;
 };
 
-// (1/N) Σ p/p̃ · log(p/q) (KL) or its absolute value (IKL), p = t/F, F = (1/N) Σ t/p̃, with p and p̃ constants: its
-// gradient w.r.t. raw is guide_loss's.
-inline double guide_loss(std::span<const double> raw, std::span<const GuideSample> s, std::size_t n_total,
+// (1/N) Σ p/p̃ · log(p/q) (KL) or its absolute value (IKL), p = t/F with F the N-Module's radiance at the point, p
+// and p̃ constants: its gradient w.r.t. raw is guide_loss's.
+inline double guide_loss(std::span<const double> raw, std::span<const GuideSample> s, double F, std::size_t n_total,
                          bool improved, const dvec3& n = kUp) {
-  double F = 0;
-  for (const auto& x : s) F += x.target / x.pdf;
-  F /= double(n_total);
   if (!(F > 0)) return 0;
   double loss = 0;
   for (const auto& x : s) {
