@@ -32,8 +32,16 @@ __kernel void guide_loss(uint points, uint samples, __global const float* lobes,
   float grad[VMF_RAW];
   for (int i = 0; i < VMF_RAW; ++i) grad[i] = 0.0f;
 
+  // F_s = (1/N) Σ t/p̃, the samples' own estimate of F, bounds F from below at F_s/N: then a point's weights
+  // Σ p/p̃/N = F_s/F stay ≤ N where the N-Module underestimates F badly (untrained, or emitters near FLT_MAX), whose
+  // unbounded weights otherwise carried overflow into the I-Module's parameters.
   uint bad = 0;
-  const float F = scattered_scale * guide_luminance(vload3(m, scattered));
+  float f_samples = 0.0f;
+  for (uint n = 0; n < samples; ++n) {
+    const size_t s = m * samples + n;
+    if (bsdf_pdf[s] >= 0.0f) f_samples += guide_target(s, weight, emitted, lookup, radiance) / pdf[s];
+  }
+  const float F = fmax(scattered_scale * guide_luminance(vload3(m, scattered)), f_samples / (float)(samples * samples));
   if (!isfinite(F)) ++bad;
   float loss = 0.0f;
   // F = 0: the N-Module sees no light arrive, so there is no target density to learn.

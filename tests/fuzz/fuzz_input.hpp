@@ -10,11 +10,20 @@
 
 namespace clr::fuzz {
 
+// The process's folder, removed when it exits (libFuzzer ends with exit(), which runs this destructor): CI machines
+// otherwise gathered one folder per harness run in /tmp.
+struct InputDir {
+  std::filesystem::path path = std::filesystem::temp_directory_path() / ("clr_fuzz_" + std::to_string(::getpid()));
+  InputDir() { std::filesystem::create_directories(path); }
+  ~InputDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+};
+
 inline std::filesystem::path write_input(const std::string& name, const std::uint8_t* data, std::size_t size) {
-  static const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("clr_fuzz_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = dir / name;
+  static const InputDir dir;
+  const auto path = dir.path / name;
   std::ofstream(path, std::ios::binary | std::ios::trunc)
       .write(reinterpret_cast<const char*>(data), std::streamsize(size));
   return path;

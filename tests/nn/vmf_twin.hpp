@@ -81,10 +81,13 @@ struct GuideSample {
   dvec3 w;
 };
 
-// (1/N) Σ p/p̃ · log(p/q) (KL) or its absolute value (IKL), p = t/F with F the N-Module's radiance at the point, p
-// and p̃ constants: its gradient w.r.t. raw is guide_loss's.
-inline double guide_loss(std::span<const double> raw, std::span<const GuideSample> s, double F, std::size_t n_total,
+// (1/N) Σ p/p̃ · log(p/q) (KL) or its absolute value (IKL), p = t/F with F the N-Module's radiance at the point
+// (bounded below by the samples' own estimate over N), p and p̃ constants: its gradient w.r.t. raw is guide_loss's.
+inline double guide_loss(std::span<const double> raw, std::span<const GuideSample> s, double f_net, std::size_t n_total,
                          bool improved, const dvec3& n = kUp) {
+  double f_samples = 0;
+  for (const auto& x : s) f_samples += x.target / x.pdf;
+  const double F = std::max(f_net, f_samples / double(n_total * n_total));
   if (!(F > 0)) return 0;
   double loss = 0;
   for (const auto& x : s) {
