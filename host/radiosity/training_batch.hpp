@@ -16,6 +16,7 @@ namespace clr::radiosity {
 
 struct TrainingBatch {
   std::size_t points = 0, samples = 0;
+  std::size_t first_point = 0;                   // index of points[0] in the step's point sequence
   std::vector<geometry::SurfaceSample> surface;  // points: where L_α is trained …
   std::vector<Vec3> wo;                          // … and from which direction
   std::vector<float> point_rows;                 // points × kRawInputs
@@ -38,6 +39,9 @@ struct BatchSettings {
   std::size_t samples = 4;
   int max_delta_bounces = 8;
   float bsdf_fraction = 1.0f;  // c: the share of directions drawn from the BSDF; 1 = BSDF sampling only (NR)
+  // This process's points are [first_point, first_point + points) of the step's sequence: every stream is keyed
+  // by a point's index in it, so MPI ranks drawing their shares draw the one-process batch between them.
+  std::size_t first_point = 0;
 };
 
 // The first half: points, directions ω_o and their raw input rows.
@@ -53,6 +57,6 @@ void sample_incident(const geometry::Geometry& geometry, const BatchSettings& se
 
 // The three uniforms per sample that the device turns into guided directions (kernels/vmf.cl: vmf_sample).
 void guide_uniforms(std::size_t points, std::size_t samples, std::uint64_t seed, std::uint64_t step,
-                    std::vector<float>& u);
+                    std::vector<float>& u, std::size_t first_point = 0);
 
 }  // namespace clr::radiosity
