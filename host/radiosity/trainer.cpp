@@ -311,6 +311,7 @@ void Trainer::run() {
     if (now % config_.checkpoint_every == 0) save_checkpoint();
     progress.update(config_.steps > 0 ? double(now) : elapsed(), last);
   }
+  check_ranks_agree(network_->steps());
   save_checkpoint();
   progress.finish(last + (stop_requested() ? "  (stopped by signal; checkpoint written)" : ""));
 }
