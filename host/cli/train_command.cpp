@@ -24,9 +24,9 @@ void print_exchange(const distributed::ExchangeStats& s, std::uint64_t steps) {
   std::fprintf(
       stderr,
       "mpi: exchange %.1f KiB/step (dense %.1f KiB), %.2f ms/step in MPI_Allreduce, %.2f ms/step exchanging in "
-      "all\n",
+      "all, %.2f ms/step waiting for the slowest rank\n",
       double(s.bytes) / n / 1024.0, double(s.dense_bytes) / n / 1024.0, s.allreduce_seconds / n * 1e3,
-      s.total_seconds / n * 1e3);
+      s.total_seconds / n * 1e3, s.wait_seconds / n * 1e3);
 }
 
 }  // namespace

@@ -27,6 +27,12 @@ GradientExchange::GradientExchange(cl::Context& ctx, const Communicator& comm) :
 
 void GradientExchange::reduce(nn::Network& net) {
   if (!comm_->distributed()) return;
+  // The backward's kernels are still queued: their time is the step's compute, not the exchange's.
+  ctx_->finish();
+  // Waiting for the slowest rank is load imbalance, not transfer: timed apart, so the allreduce time is the wire's.
+  const auto arrived = Clock::now();
+  comm_->max(0.0);
+  stats_.wait_seconds += seconds_since(arrived);
   const auto start = Clock::now();
   auto& grads = net.mlp().grads();
   dense_host_.resize(grads.size());

@@ -28,8 +28,9 @@ struct ExchangeStats {
   std::uint64_t exchanges = 0;    // reduce() calls
   std::uint64_t bytes = 0;        // sent by this rank into allreduces (each element once)
   std::uint64_t dense_bytes = 0;  // what a dense exchange of the same gradients would have sent
-  double allreduce_seconds = 0;   // inside MPI, waiting for slower ranks included
-  double total_seconds = 0;       // reduce() in all: device reads, packing, MPI, writes
+  double wait_seconds = 0;        // for the slowest rank to finish its backward (load imbalance)
+  double allreduce_seconds = 0;   // inside the allreduces, after every rank arrived
+  double total_seconds = 0;       // reduce() after the device finished the backward: reads, packing, MPI, writes
 };
 
 class GradientExchange {
