@@ -41,20 +41,24 @@ void print_stages(cl::Context& ctx, const nn::NetworkConfig& guide_config, std::
       bsdf_pdf(ctx, std::span<const float>(uniform(M * N, 0.05f, 1.0f))), pdf(ctx, M * N), q(ctx, M * N),
       weight(ctx, std::span<const float>(uniform(M * N * 3, 0.0f, 1.0f))),
       emitted(ctx, std::span<const float>(uniform(M * N * 3, 0.0f, 0.1f))),
-      radiance(ctx, std::span<const float>(uniform(M * N * 3, 0.0f, 1.0f))), d_raw(ctx, M * nn::kVmfRaw);
+      radiance(ctx, std::span<const float>(uniform(M * N * 3, 0.0f, 1.0f))), d_raw(ctx, M * nn::kVmfRaw),
+      scattered(ctx, std::span<const float>(uniform(M * 3, 0.1f, 1.0f)));
+  std::vector<float> up(M * 3, 0.0f);
+  for (std::size_t m = 0; m < M; ++m) up[3 * m + 2] = 1.0f;
+  cl::Buffer<float> normals(ctx, std::span<const float>(up));
   std::vector<int> lookup_host(M * N);
   for (std::size_t s = 0; s < M * N; ++s) lookup_host[s] = int(s);
   cl::Buffer<int> lookup(ctx, std::span<const int>(lookup_host));
   nn::NetworkContext fwd;
   const std::pair<const char*, std::function<void()>> stages[] = {
       {"forward (activations kept)", [&] { guide.forward_train(rows, M, fwd); }},
-      {"decode lobes", [&] { vmf.decode(fwd.output(), M); }},
+      {"decode lobes", [&] { vmf.decode(fwd.output(), normals, M); }},
       {"sample directions", [&] { vmf.sample(u, N, dirs); }},
       {"read directions back", [&] { (void)dirs.read(); }},
       {"mixture pdf", [&] { vmf.mixture_pdf(dirs, bsdf_pdf, N, 0.5f, pdf, q); }},
       {"KL/IKL gradient",
        [&] {
-         vmf.loss({dirs, bsdf_pdf, pdf, weight, emitted, lookup, radiance}, N, true, d_raw);
+         vmf.loss({dirs, bsdf_pdf, pdf, weight, emitted, lookup, radiance, scattered}, N, true, d_raw);
        }},
       {"backward", [&] { guide.backward(fwd, d_raw); }},
       {"Adam", [&] { guide.adam_step(); }},
@@ -90,6 +94,7 @@ int main(int argc, char** argv) {
   config.method = "nr";
   radiosity::Trainer nr(ctx, geometry, config, tmp / "nr", false);
   config.method = "isnr";
+  config.guide_warmup = 0.0;  // steps at the guided share the run settles at
   radiosity::Trainer isnr(ctx, geometry, config, tmp / "isnr", false);
   for (int i = 0; i < 5; ++i) {  // warm-up: program builds, buffer growth, the GEMM probe
     nr.step();

@@ -1,7 +1,10 @@
 // The I-Module's loss and its gradient w.r.t. the raw lobe outputs (ISNR §4.1–4.2). Needs atomics.cl and vmf.cl.
 // For point m with N samples ω_n drawn from p̃ (the one-sample mixture), from the N-Module's own incident radiance:
 //   t_n = lum(f·cos·L_i(ω_n))   (emitted + weight·sg(L_α), the weights not divided by any pdf)
-//   F = (1/N) Σ t_n / p̃_n,  p_n = t_n / F  — the target density, estimated with the same samples
+//   F = lum(sg(L_α(x, ω_o))),  p_n = t_n / F  — the target density
+// F = ∫ f·cos·L_i dω is what the N-Module predicts at the point itself (it models the scattered radiance), as the
+// paper's §4.3 computes it. An estimate from the N samples instead (self-normalised) was measured to teach
+// little: a point's one lit sample always got p/p̃ = N whatever its radiance.
 //   KL  (Eq. 17): ∇ = −(1/N) Σ p_n/p̃_n ∇log q(ω_n)
 //   IKL (Eq. 20): each term times (2·1[p_n > q_n] − 1), the sign of log(p/q): the integrand's absolute value.
 // sg(L_α) and sg(p̃) hold by construction: only the raw outputs receive a gradient. Delta samples (bsdf_pdf < 0)
@@ -21,37 +24,30 @@ inline float guide_target(size_t s, __global const float* weight, __global const
 __kernel void guide_loss(uint points, uint samples, __global const float* lobes, __global const float* dirs,
                          __global const float* bsdf_pdf, __global const float* pdf, __global const float* weight,
                          __global const float* emitted, __global const int* lookup, __global const float* radiance,
-                         uint improved, float scale, __global float* d_raw, volatile __global float* total,
-                         volatile __global uint* non_finite) {
+                         __global const float* scattered, float scattered_scale, uint improved, float scale,
+                         __global float* d_raw, volatile __global float* total, volatile __global uint* non_finite) {
   const size_t m = get_global_id(0);
   if (m >= points) return;
   __global const float* lp = lobes + m * VMF_LOBES * VMF_LOBE_FLOATS;
   float grad[VMF_RAW];
   for (int i = 0; i < VMF_RAW; ++i) grad[i] = 0.0f;
 
-  float f_sum = 0.0f;
   uint bad = 0;
-  for (uint n = 0; n < samples; ++n) {
-    const size_t s = m * samples + n;
-    if (bsdf_pdf[s] < 0.0f) continue;
-    const float t = guide_target(s, weight, emitted, lookup, radiance) / pdf[s];
-    if (isfinite(t) && t >= 0.0f)
-      f_sum += t;
-    else
-      ++bad;
-  }
-  const float F = f_sum / (float)samples;
-  // Finite terms can still overflow their sum (radiance near FLT_MAX): the point then teaches nothing, and counts.
+  const float F = scattered_scale * guide_luminance(vload3(m, scattered));
   if (!isfinite(F)) ++bad;
   float loss = 0.0f;
-  // F = 0: no sample saw light, so the samples say nothing about where q should go.
+  // F = 0: the N-Module sees no light arrive, so there is no target density to learn.
   if (F > 0.0f && isfinite(F)) {
     for (uint n = 0; n < samples; ++n) {
       const size_t s = m * samples + n;
       if (bsdf_pdf[s] < 0.0f) continue;
       const float p = guide_target(s, weight, emitted, lookup, radiance) / F;
       const float w = p / pdf[s] / (float)samples;  // p / p̃, and the 1/N of the estimate
-      if (!(isfinite(w) && w > 0.0f)) continue;     // t = 0 adds nothing; non-finite t was counted above
+      if (w == 0.0f) continue;                      // t = 0 adds nothing
+      if (!(isfinite(w) && w > 0.0f)) {
+        ++bad;
+        continue;
+      }
       float dlogq[VMF_RAW];
       const float log_ratio = log(p) - vmf_dlogq_at(lp, vload3(s, dirs), dlogq);
       const float sign = improved && !(log_ratio > 0.0f) ? -1.0f : 1.0f;

@@ -21,11 +21,11 @@ VmfMixture::VmfMixture(cl::Context& ctx)
   non_finite_.fill(0u);
 }
 
-void VmfMixture::decode(const cl::Buffer<float>& raw, std::size_t points) {
+void VmfMixture::decode(const cl::Buffer<float>& raw, const cl::Buffer<float>& normals, std::size_t points) {
   if (lobes_.size() < points * kVmfLobes * kLobeFloats)
     lobes_ = cl::Buffer<float>(*ctx_, points * kVmfLobes * kLobeFloats);
   points_ = points;
-  decode_.args(raw, u32(points), lobes_).launch(points);
+  decode_.args(raw, normals, u32(points), lobes_).launch(points);
 }
 
 void VmfMixture::sample(const cl::Buffer<float>& u, std::size_t samples, cl::Buffer<float>& dirs) {
@@ -45,7 +45,8 @@ void VmfMixture::loss(const GuideSamples& s, std::size_t samples, bool improved,
                       std::size_t mean_over) {
   loss_
       .args(u32(points_), u32(samples), lobes_, s.dirs, s.bsdf_pdf, s.pdf, s.weight, s.emitted, s.lookup, s.radiance,
-            improved ? 1u : 0u, 1.0f / float(mean_over ? mean_over : points_), d_raw, total_, non_finite_)
+            s.scattered, s.scattered_scale, improved ? 1u : 0u, 1.0f / float(mean_over ? mean_over : points_), d_raw,
+            total_, non_finite_)
       .launch(points_);
 }
 

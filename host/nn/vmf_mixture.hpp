@@ -5,6 +5,7 @@
 // trains the I-Module from the N-Module's incident radiance. Per-sample buffers are [points · samples (× 3)],
 // sample s belonging to point s / samples.
 #include <cstddef>
+#include <glm/glm.hpp>
 
 #include "cl/buffer.hpp"
 #include "cl/context.hpp"
@@ -24,15 +25,24 @@ struct GuideSamples {
   const cl::Buffer<float>& emitted;   // RGB, weighted as `weight`
   const cl::Buffer<int>& lookup;      // row of `radiance`, or −1
   const cl::Buffer<float>& radiance;  // sg(L_α) at the incident hits
+  // sg(L_α(x, ω_o)) at the points (RGB), times scattered_scale in radiance: F = ∫ f·cos·L_i, the normalisation
+  // of the target density.
+  const cl::Buffer<float>& scattered;
+  float scattered_scale = 1.0f;
 };
+
+// The normal the lobes' frame is built about: the shading normal on the side of ω_o (two-sided surfaces are lit
+// from either side; the light a point sees comes from its side).
+inline glm::vec3 frame_normal(const glm::vec3& n, const glm::vec3& wo) { return glm::dot(n, wo) < 0.0f ? -n : n; }
 
 class VmfMixture {
  public:
   explicit VmfMixture(cl::Context& ctx);
 
   // Decodes the raw outputs [points × kVmfRaw] into lobes (all the activations' transcendental work, once per
-  // step); the calls below read the lobes of the last decode.
-  void decode(const cl::Buffer<float>& raw, std::size_t points);
+  // step), in the frame about each point's normal [points × 3] (frame_normal); the calls below read the lobes of
+  // the last decode.
+  void decode(const cl::Buffer<float>& raw, const cl::Buffer<float>& normals, std::size_t points);
   // One direction per sample from its point's mixture; u holds 3 uniforms in [0, 1) per sample.
   void sample(const cl::Buffer<float>& u, std::size_t samples, cl::Buffer<float>& dirs);
   // p̃ and q at every sample's direction (bsdf_fraction 0 and bsdf_pdf ≥ 0 make p̃ = q).

@@ -7,13 +7,14 @@ IncidentSampling::IncidentSampling(cl::Context& ctx) : ctx_(&ctx), vmf_(ctx) {}
 void IncidentSampling::sample(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed,
                               std::uint64_t step, const cl::Buffer<float>* lobes, TrainingBatch& batch) {
   const std::size_t M = batch.points, N = batch.samples;
-  const bool guided = lobes && settings.bsdf_fraction < 1.0f;
-  BatchSettings s = settings;
-  if (!guided) s.bsdf_fraction = 1.0f;
+  const bool guided = settings.guide && settings.bsdf_fraction < 1.0f;
   guided_host_.clear();
+  if (settings.guide) {
+    cl::upload(*ctx_, normals_, batch.frame_normals);
+    vmf_.decode(*lobes, normals_, M);
+  }
   if (guided) {
     // A direction from the lobes for every sample; the host uses those of the samples that pick the guide.
-    vmf_.decode(*lobes, M);
     guide_uniforms(M, N, seed, step, uniforms_host_, batch.first_point);
     cl::upload(*ctx_, uniforms_, uniforms_host_);
     cl::reserve(*ctx_, guided_, M * N * 3);
@@ -21,17 +22,17 @@ void IncidentSampling::sample(const geometry::Geometry& geometry, const BatchSet
     guided_host_.resize(M * N * 3);
     guided_.read(std::span<float>(guided_host_));
   }
-  sample_incident(geometry, s, seed, step, guided_host_, batch);
+  sample_incident(geometry, settings, seed, step, guided_host_, batch);
   cl::upload(*ctx_, incident_rows, batch.incident_rows);
   cl::upload(*ctx_, weight, batch.weight);
   cl::upload(*ctx_, emitted, batch.emitted);
   cl::upload(*ctx_, lookup, batch.lookup);
-  if (guided) {
+  if (settings.guide) {
     cl::upload(*ctx_, directions, batch.directions);
     cl::upload(*ctx_, bsdf_pdf, batch.bsdf_pdf);
     cl::reserve(*ctx_, pdf, M * N);
     cl::reserve(*ctx_, q_, M * N);
-    vmf_.mixture_pdf(directions, bsdf_pdf, N, s.bsdf_fraction, pdf, q_);
+    vmf_.mixture_pdf(directions, bsdf_pdf, N, settings.bsdf_fraction, pdf, q_);
   } else {
     cl::upload(*ctx_, pdf, batch.pdf);
   }

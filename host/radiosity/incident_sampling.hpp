@@ -14,17 +14,20 @@ class IncidentSampling {
  public:
   explicit IncidentSampling(cl::Context& ctx);
 
-  // After sample_training_points filled `batch`'s points: draws its incident half with `lobes` ([points × 32] raw
-  // I-Module outputs on the device) when given and settings.bsdf_fraction < 1, else from the BSDF alone.
+  // After sample_training_points filled `batch`'s points: draws its incident half, with settings.guide from the
+  // mixture with `lobes` ([points × 32] raw I-Module outputs on the device; c = 1 draws from the BSDF alone but
+  // still forms q for the guide's loss), else from the BSDF alone (lobes unused).
   void sample(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed, std::uint64_t step,
               const cl::Buffer<float>* lobes, TrainingBatch& batch);
 
   // Device copies of the last batch's arrays (directions and bsdf_pdf only with lobes).
   cl::Buffer<float> incident_rows, weight, emitted, pdf, directions, bsdf_pdf;
   cl::Buffer<int> lookup;
-  // The guide's view of those samples, once `radiance` holds sg(L_α) at the incident rows.
-  nn::GuideSamples guide_samples(const cl::Buffer<float>& radiance) const {
-    return {directions, bsdf_pdf, pdf, weight, emitted, lookup, radiance};
+  // The guide's view of those samples, once `radiance` holds sg(L_α) at the incident rows and `scattered` (× scale)
+  // the N-Module's radiance at the points.
+  nn::GuideSamples guide_samples(const cl::Buffer<float>& radiance, const cl::Buffer<float>& scattered,
+                                 float scale) const {
+    return {directions, bsdf_pdf, pdf, weight, emitted, lookup, radiance, scattered, scale};
   }
   nn::VmfMixture& vmf() { return vmf_; }
 
@@ -32,7 +35,7 @@ class IncidentSampling {
   cl::Context* ctx_;
   nn::VmfMixture vmf_;
   std::vector<float> uniforms_host_, guided_host_;
-  cl::Buffer<float> uniforms_, guided_, q_;
+  cl::Buffer<float> normals_, uniforms_, guided_, q_;
 };
 
 }  // namespace clr::radiosity

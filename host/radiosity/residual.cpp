@@ -16,7 +16,7 @@ void estimate_rhs(cl::Context& ctx, const geometry::Geometry& geometry, nn::Netw
   TrainingBatch batch;
   std::size_t done = 0;
   for (std::uint64_t c = 0; done < points; ++c) {
-    BatchSettings settings{std::min(chunk, points - done), samples, 8, guide ? bsdf_fraction : 1.0f};
+    BatchSettings settings{std::min(chunk, points - done), samples, 8, guide ? bsdf_fraction : 1.0f, guide != nullptr};
     // A stream of its own (step index past any training run's), so the metric never reuses training samples.
     const std::uint64_t step = (1ull << 62) + c;
     sample_training_points(sampler, geometry.scene(), settings, seed, step, batch);

@@ -38,6 +38,7 @@ void TrainConfig::validate() const {
   require(is_loss == "ikl" || is_loss == "kl", "is_loss", is_loss, "ikl or kl");
   // c = 0 would never draw a delta lobe (its share of p̃ is c): the estimate would lose that light.
   require(bsdf_fraction > 0 && bsdf_fraction <= 1, "bsdf_fraction", bsdf_fraction, "in (0, 1]");
+  require(guide_warmup >= 0 && guide_warmup <= 1, "guide_warmup", guide_warmup, "in [0, 1]");
   require(residual == "relative" || residual == "l2", "residual", residual, "relative or l2");
   require(samples >= 1 && samples <= 1024, "samples", samples, "in [1, 1024]");
   require(batch >= 0 && batch <= (1 << 22), "batch", batch, "in [1, 4194304] (0 = automatic)");
@@ -57,6 +58,11 @@ void TrainConfig::validate() const {
 double TrainConfig::learning_rate_scale(double progress) const {
   if (progress <= anneal_start || anneal_start >= 1) return 1.0;
   return std::pow(anneal_final, (std::min(progress, 1.0) - anneal_start) / (1.0 - anneal_start));
+}
+
+double TrainConfig::bsdf_fraction_at(double progress) const {
+  if (progress >= guide_warmup) return bsdf_fraction;
+  return 1.0 - (1.0 - bsdf_fraction) * std::max(0.0, progress) / guide_warmup;
 }
 
 double TrainConfig::relative_power(double progress) const {

@@ -15,6 +15,10 @@ struct TrainConfig {
   std::string method = "isnr";
   std::string is_loss = "ikl";  // the I-Module's loss: "ikl" (Improved KL, Eq. 18/20) or "kl" (Eq. 17)
   double bsdf_fraction = 0.5;  // c in p̃ = c·p_bsdf + (1 − c)·q (isnr); the defensive share keeps variance bounded
+  // The guide's warm-up (isnr): over this fraction of the budget the guided share 1 − c rises linearly from 0 to
+  // 1 − bsdf_fraction. The I-Module learns from the BSDF's samples meanwhile; an untrained guide only adds
+  // variance, which the N-Module then fits.
+  double guide_warmup = 0.1;
   std::string residual = "relative";  // "relative": r²/(sg(L)²+0.01)^power (below); "l2": r² (paper Eq. 10)
   int samples = 4;                    // N incident directions per point
   int batch = 0;                      // M points per step; 0 = chosen for the device
@@ -46,6 +50,9 @@ struct TrainConfig {
   // The factor on the learning rate once `progress` ∈ [0, 1] of the budget is spent.
   double learning_rate_scale(double progress) const;
 
+  // c once `progress` of the budget is spent (the warm-up's ramp, then bsdf_fraction).
+  double bsdf_fraction_at(double progress) const;
+
   // The power of the residual's denominator once `progress` of the budget is spent (0 for plain L2).
   double relative_power(double progress) const;
 
@@ -53,9 +60,9 @@ struct TrainConfig {
   void validate() const;
 };
 
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, is_loss, bsdf_fraction, residual, samples, batch,
-                                                steps, minutes, seed, anneal_start, anneal_final, relative_fade_end,
-                                                log_every, checkpoint_every, network, guide)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, is_loss, bsdf_fraction, guide_warmup, residual,
+                                                samples, batch, steps, minutes, seed, anneal_start, anneal_final,
+                                                relative_fade_end, log_every, checkpoint_every, network, guide)
 
 // Applies the keys of `j` over `base`. An unknown key or a value of the wrong type is an InputError naming the
 // key (a misspelt key must not be silently ignored); the result is validated.

@@ -170,7 +170,8 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
   batch_settings_.points = share.count;
   batch_settings_.first_point = share.first;
   batch_settings_.samples = std::size_t(config_.samples);
-  batch_settings_.bsdf_fraction = guide_ ? float(config_.bsdf_fraction) : 1.0f;
+  batch_settings_.guide = guide_ != nullptr;
+  batch_settings_.bsdf_fraction = guide_ ? float(config_.bsdf_fraction_at(0.0)) : 1.0f;
   non_finite_.fill(0u);
 }
 
@@ -208,8 +209,17 @@ StepStats Trainer::step() {
   if (guide_) {
     // The I-Module learns from the same samples and the N-Module's radiance before its update (sg(L_α)).
     cl::reserve(*ctx_, d_lobes_, M * nn::kVmfRaw);
-    incident_.vmf().loss(incident_.guide_samples(incident_radiance_), N, config_.is_loss == "ikl", d_lobes_,
-                         std::size_t(config_.batch));
+    // F from the N-Module at the points: the forward above kept its raw outputs (radiance / output scale); a held
+    // N-Module ran no forward.
+    float scale = network_->config().output_scale;
+    if (hold_radiance_) {
+      cl::reserve(*ctx_, point_radiance_, M * 3);
+      network_->infer(point_rows_, M, point_radiance_);
+      scale = 1.0f;
+    }
+    const cl::Buffer<float>& scattered = hold_radiance_ ? point_radiance_ : train_ctx_.output();
+    incident_.vmf().loss(incident_.guide_samples(incident_radiance_, scattered, scale), N, config_.is_loss == "ikl",
+                         d_lobes_, std::size_t(config_.batch));
     guide_->backward(guide_ctx_, d_lobes_);
     exchange_.reduce(*guide_);
     guide_->adam_step();
@@ -262,6 +272,7 @@ void Trainer::run() {
     network_->set_learning_rate_scale(float(lr_scale));
     if (guide_) guide_->set_learning_rate_scale(float(lr_scale));
     residual_power_ = float(config_.relative_power(fraction));
+    if (guide_) batch_settings_.bsdf_fraction = float(config_.bsdf_fraction_at(fraction));
     const StepStats stats = step();
     lookups += stats.lookups;
     guided += stats.guided;

@@ -85,7 +85,8 @@ class Trainer {
   nn::NetworkContext guide_ctx_;
   cl::Buffer<float> d_lobes_;
   bool hold_radiance_ = false;
-  double seconds_before_ = 0;  // training time of earlier sessions of a resumed run
+  cl::Buffer<float> point_radiance_;  // sg(L_α) at the points, where no forward computed it (held N-Module)
+  double seconds_before_ = 0;         // training time of earlier sessions of a resumed run
   distributed::GradientExchange exchange_;
 };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "common/parallel.hpp"
+#include "nn/vmf_mixture.hpp"
 
 namespace clr::radiosity {
 namespace {
@@ -25,6 +26,7 @@ void sample_training_points(const geometry::SurfaceSampler& sampler, const scene
   batch.surface.resize(M);
   batch.wo.resize(M);
   batch.point_rows.resize(M * R);
+  batch.frame_normals.resize(settings.guide ? M * 3 : 0);
   sampler.sample(stream_id(seed, step, 0), batch.surface, settings.first_point);
   parallel_for(M, 256, [&](std::size_t first, std::size_t last) {
     for (std::size_t m = first; m < last; ++m) {
@@ -37,6 +39,10 @@ void sample_training_points(const geometry::SurfaceSampler& sampler, const scene
         wo -= 2.0f * glm::dot(wo, x.point.frame.n) * x.point.frame.n;
       batch.wo[m] = wo;
       write_raw_row(scene, x.point, wo, &batch.point_rows[m * R]);
+      if (settings.guide) {
+        const glm::vec3 n = nn::frame_normal(x.point.frame.n, wo);
+        std::copy_n(&n.x, 3, &batch.frame_normals[3 * m]);
+      }
     }
   });
 }
@@ -46,12 +52,12 @@ void sample_incident(const geometry::Geometry& geometry, const BatchSettings& se
   const scene::Scene& scene = geometry.scene();
   const std::size_t M = batch.points, N = batch.samples, R = nn::kRawInputs;
   const float c = settings.bsdf_fraction;
-  const bool guiding = c < 1.0f;
+  const bool guiding = c < 1.0f, keep = settings.guide;
   batch.weight.assign(M * N * 3, 0.0f);
   batch.emitted.assign(M * N * 3, 0.0f);
   batch.bsdf_pdf.assign(M * N, -1.0f);
   batch.lookup.assign(M * N, -1);
-  batch.directions.assign(guiding ? M * N * 3 : 0, 0.0f);
+  batch.directions.assign(keep ? M * N * 3 : 0, 0.0f);
   std::vector<std::uint8_t> from_guide(M * N, 0);
   // Every sample's would-be lookup row, compacted afterwards in sample order (deterministic).
   std::vector<float> candidate(M * N * R);
@@ -83,7 +89,7 @@ void sample_incident(const geometry::Geometry& geometry, const BatchSettings& se
           fcos = delta ? bs->weight : bs->weight * bs->pdf;
           batch.bsdf_pdf[s] = delta ? -1.0f : bs->pdf;
         }
-        if (guiding) std::copy_n(&wi.x, 3, &batch.directions[3 * s]);
+        if (keep) std::copy_n(&wi.x, 3, &batch.directions[3 * s]);
         if (fcos == Rgb(0.0f)) continue;
         const PathEnd path =
             trace_to_surface(geometry, {x.point.spawn_origin(wi), 0.0f, wi}, rng, settings.max_delta_bounces);
@@ -102,7 +108,7 @@ void sample_incident(const geometry::Geometry& geometry, const BatchSettings& se
   batch.guided = std::size_t(std::count(from_guide.begin(), from_guide.end(), std::uint8_t(1)));
   // Without a guide p̃ is the BSDF's own density (the discrete lobe probability is already in a delta weight).
   batch.pdf.clear();
-  if (!guiding)
+  if (!keep)
     for (const float p : batch.bsdf_pdf) batch.pdf.push_back(p < 0.0f ? 1.0f : p);
 
   std::size_t rows = 0;

@@ -22,14 +22,15 @@ struct TrainingBatch {
   std::vector<float> point_rows;                 // points × kRawInputs
   std::vector<float> incident_rows;              // lookups × kRawInputs: where sg(L_α) is read
   // Per sample (points·samples, × 3 for RGB and directions). A sample's RHS term is (emitted + weight·L) / pdf.
-  std::vector<float> weight;      // f·cos times the delta chain's throughput; not divided by any pdf, except for
-                                  // samples of a delta lobe, which hold the BSDF's weight (f / lobe probability)
-  std::vector<float> emitted;     // the emission met along the chain, weighted as `weight`
-  std::vector<float> bsdf_pdf;    // p_bsdf(ω_i); −1 marks a delta-lobe (or absorbed) sample: never guided
-  std::vector<float> pdf;         // p̃: filled here when nothing is guided (c = 1), else on the device
-  std::vector<float> directions;  // ω_i, world space; only with a guide (its pdf and loss need them)
-  std::vector<int> lookup;        // row in incident_rows, or −1
-  std::size_t guided = 0;         // samples whose direction came from q
+  std::vector<float> weight;         // f·cos times the delta chain's throughput; not divided by any pdf, except for
+                                     // samples of a delta lobe, which hold the BSDF's weight (f / lobe probability)
+  std::vector<float> emitted;        // the emission met along the chain, weighted as `weight`
+  std::vector<float> bsdf_pdf;       // p_bsdf(ω_i); −1 marks a delta-lobe (or absorbed) sample: never guided
+  std::vector<float> pdf;            // p̃: filled here when nothing is guided (c = 1), else on the device
+  std::vector<float> directions;     // ω_i, world space; only with a guide (its pdf and loss need them)
+  std::vector<float> frame_normals;  // points × 3: each point's lobe frame normal (nn::frame_normal); with a guide
+  std::vector<int> lookup;           // row in incident_rows, or −1
+  std::size_t guided = 0;            // samples whose direction came from q
 
   std::size_t lookups() const { return incident_rows.size() / nn::kRawInputs; }
 };
@@ -38,13 +39,16 @@ struct BatchSettings {
   std::size_t points = 4096;
   std::size_t samples = 4;
   int max_delta_bounces = 8;
-  float bsdf_fraction = 1.0f;  // c: the share of directions drawn from the BSDF; 1 = BSDF sampling only (NR)
+  float bsdf_fraction = 1.0f;  // c: the share of directions drawn from the BSDF; 1 = BSDF sampling only
+  // An I-Module learns from the batch (ISNR): directions and p_bsdf are kept for its loss and p̃ is formed on the
+  // device, also while c = 1 (the guide's warm-up, when it learns from BSDF samples before any are drawn from it).
+  bool guide = false;
   // This process's points are [first_point, first_point + points) of the step's sequence: every stream is keyed
   // by a point's index in it, so MPI ranks drawing their shares draw the one-process batch between them.
   std::size_t first_point = 0;
 };
 
-// The first half: points, directions ω_o and their raw input rows.
+// The first half: points, directions ω_o, their raw input rows (and frame normals with a guide).
 void sample_training_points(const geometry::SurfaceSampler& sampler, const scene::Scene& scene,
                             const BatchSettings& settings, std::uint64_t seed, std::uint64_t step,
                             TrainingBatch& batch);

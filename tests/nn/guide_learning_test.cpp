@@ -28,10 +28,16 @@ double cone_share_after_training(cl::Context& ctx, bool improved, int steps) {
   for (std::size_t m = 0; m < M; ++m)
     rows.insert(rows.end(), {0.5f, 0.5f, 0.5f, 0, 0, 1, 0, 0, 1, 0.5f, 0.5f, 0.5f, 1.0f});
   cl::Buffer<float> raw_rows(ctx, std::span<const float>(rows));
+  std::vector<float> up(M * 3, 0.0f);
+  for (std::size_t m = 0; m < M; ++m) up[3 * m + 2] = 1.0f;
+  cl::Buffer<float> normals(ctx, std::span<const float>(up));
   cl::Buffer<float> u_dev(ctx, M * N * 3), guided(ctx, M * N * 3), dirs_dev(ctx, M * N * 3), bsdf_pdf(ctx, M * N),
       pdf(ctx, M * N), q(ctx, M * N), weight(ctx, M * N * 3), emitted_dev(ctx, M * N * 3), radiance(ctx, 3),
       d_raw(ctx, M * 32);
   cl::Buffer<int> lookup(ctx, M * N);
+  // F = ∫ t dω: the cone's solid angle (t = 1 inside it).
+  cl::Buffer<float> scattered(ctx, M * 3);
+  scattered.fill(float(2 * M_PI * (1 - double(cone_cos))));
   weight.fill(0.0f);
   radiance.fill(0.0f);
   lookup.fill(-1);
@@ -42,7 +48,7 @@ double cone_share_after_training(cl::Context& ctx, bool improved, int steps) {
   // The lobes at the points (activations kept) and a direction from them for every sample.
   const auto draw_from_q = [&] {
     net.forward_train(raw_rows, M, fwd);
-    vmf.decode(fwd.output(), M);
+    vmf.decode(fwd.output(), normals, M);
     for (auto& x : u) x = rng.next_float();
     u_dev.write(u);
     vmf.sample(u_dev, N, guided);
@@ -63,7 +69,7 @@ double cone_share_after_training(cl::Context& ctx, bool improved, int steps) {
     dirs_dev.write(dirs);
     emitted_dev.write(emitted);
     vmf.mixture_pdf(dirs_dev, bsdf_pdf, N, c, pdf, q);
-    vmf.loss({dirs_dev, bsdf_pdf, pdf, weight, emitted_dev, lookup, radiance}, N, improved, d_raw);
+    vmf.loss({dirs_dev, bsdf_pdf, pdf, weight, emitted_dev, lookup, radiance, scattered}, N, improved, d_raw);
     net.backward(fwd, d_raw);
     net.adam_step();
   }

@@ -17,11 +17,14 @@ namespace {
 
 using vmf::dvec3;
 
-// Raw outputs of one lobe with weight logit a, concentration κ and mean direction (θ, φ) — the inverse of the
-// activations (σ⁻¹ saturates at ±30 for the poles).
+// The raw b of a lobe of concentration κ inside the clamp.
+double raw_b(double kappa) { return std::log(kappa) - vmf::kLogKappa0; }
+
+// Raw outputs of one lobe with weight logit a, concentration κ and mean direction (θ, φ) in the frame about the
+// normal — the inverse of the activations (σ⁻¹ saturates at ±30 for the poles).
 std::array<double, 4> lobe_raw(double a, double kappa, double theta, double phi) {
   const auto logit = [](double y) { return y <= 0 ? -30.0 : y >= 1 ? 30.0 : std::log(y / (1 - y)); };
-  return {a, std::log(kappa), logit(theta / M_PI), logit(phi / (2 * M_PI))};
+  return {a, raw_b(kappa), logit(theta / M_PI) - vmf::kC0, logit(phi / (2 * M_PI))};
 }
 
 // A mixture whose only lobe with weight is lobe 0 (the others' softmax weights underflow to exactly 0).
@@ -53,12 +56,22 @@ dvec3 random_direction(std::mt19937& rng) {
   return glm::normalize(dvec3(g(rng), g(rng), g(rng)));
 }
 
-// The kernels on a few points' raw outputs.
+// The kernels on a few points' raw outputs, in the frames about their normals (+z where not given).
 class VmfDevice {
  public:
-  VmfDevice(cl::Context& ctx, const std::vector<double>& raw)
-      : ctx_(&ctx), vmf_(ctx), points_(raw.size() / 32), raw_(ctx, std::span<const float>(to_float(raw))) {
-    vmf_.decode(raw_, points_);
+  VmfDevice(cl::Context& ctx, const std::vector<double>& raw, const std::vector<dvec3>& normals = {})
+      : ctx_(&ctx),
+        vmf_(ctx),
+        points_(raw.size() / 32),
+        raw_(ctx, std::span<const float>(to_float(raw))),
+        normals_(ctx, points_ * 3) {
+    std::vector<float> n;
+    for (std::size_t m = 0; m < points_; ++m) {
+      const dvec3 v = normals.empty() ? vmf::kUp : normals[m];
+      n.insert(n.end(), {float(v.x), float(v.y), float(v.z)});
+    }
+    normals_.write(n);
+    vmf_.decode(raw_, normals_, points_);
   }
   static std::vector<float> to_float(std::span<const double> v) { return {v.begin(), v.end()}; }
 
@@ -90,7 +103,7 @@ class VmfDevice {
   cl::Context* ctx_;
   nn::VmfMixture vmf_;
   std::size_t points_;
-  cl::Buffer<float> raw_;
+  cl::Buffer<float> raw_, normals_;
 };
 
 std::vector<float> uniforms(std::size_t n, std::uint64_t seed) {
@@ -108,15 +121,16 @@ struct SamplerCheck {
   double worst_pdf_error = 0;
 };
 
-SamplerCheck check_sampler(cl::Context& ctx, const std::vector<double>& raw, std::uint64_t seed) {
-  const auto lobes = vmf::decode(raw);
+SamplerCheck check_sampler(cl::Context& ctx, const std::vector<double>& raw, std::uint64_t seed,
+                           const dvec3& normal = vmf::kUp) {
+  const auto lobes = vmf::decode(raw, normal);
   // Lobes narrower than a few grid cells need a finer quadrature of the expected counts (κ = 100 spans ~0.01 in
   // cos θ; a cell is 0.095).
   double kappa_max = 0;
   for (const auto& l : lobes)
     if (l.lambda > 0) kappa_max = std::max(kappa_max, l.kappa);
   constexpr std::size_t n = 1000000;
-  VmfDevice dev(ctx, raw);
+  VmfDevice dev(ctx, raw, {normal});
   const auto dirs = dev.sample(uniforms(n, seed));
   const auto q = dev.pdf(dirs);
   SamplerCheck c;
@@ -149,11 +163,17 @@ TEST_F(ClTest, VmfSingleLobesPassChi2) {
     }
 }
 
+// The frame's normals: a random one, the axis where the frame takes its fallback tangent, and −z.
+std::vector<dvec3> test_normals(std::mt19937& rng) {
+  return {random_direction(rng), dvec3(0.48, 0.6, 0.64), -vmf::kUp};
+}
+
 TEST_F(ClTest, VmfMixturesPassChi2) {
   std::mt19937 rng(7);
+  const auto normals = test_normals(rng);
   for (int i = 0; i < 3; ++i) {
     const auto raw = random_mixture(rng, std::log(100.0));
-    const auto c = check_sampler(ctx(), raw, std::uint64_t(100 + i));
+    const auto c = check_sampler(ctx(), raw, std::uint64_t(100 + i), normals[std::size_t(i)]);
     EXPECT_TRUE(c.chi2.problem.empty()) << c.chi2.problem;
     EXPECT_GT(c.chi2.p_value, kAlpha) << "mixture " << i;
     EXPECT_LT(c.worst_pdf_error, 5e-3) << "mixture " << i;
@@ -190,9 +210,10 @@ TEST_F(ClTest, VmfSharpLobesAreUniformInTheirFrame) {
 // ∫ q dω = 1: mixtures on a (cos θ, φ) midpoint grid, sharp lobes along log-spaced rings about their mean.
 TEST_F(ClTest, VmfDensityIntegratesToOne) {
   std::mt19937 rng(5);
+  const auto normals = test_normals(rng);
   for (int i = 0; i < 3; ++i) {
     const auto raw = random_mixture(rng, std::log(100.0));
-    constexpr int nc = 1024, np = 2048;
+    constexpr int nc = 8192, np = 512;  // fine in cos θ for lobes at the poles; φ is periodic
     std::vector<float> dirs;
     dirs.reserve(std::size_t(nc) * np * 3);
     for (int a = 0; a < nc; ++a)
@@ -200,7 +221,7 @@ TEST_F(ClTest, VmfDensityIntegratesToOne) {
         const double ct = -1 + (a + 0.5) * 2.0 / nc, st = std::sqrt(1 - ct * ct), phi = (b + 0.5) * 2 * M_PI / np;
         for (const double v : {st * std::cos(phi), st * std::sin(phi), ct}) dirs.push_back(float(v));
       }
-    const auto q = VmfDevice(ctx(), raw).pdf(dirs);
+    const auto q = VmfDevice(ctx(), raw, {normals[std::size_t(i)]}).pdf(dirs);
     double total = 0;
     for (const float v : q) total += double(v);
     EXPECT_NEAR(total * (2.0 / nc) * (2 * M_PI / np), 1.0, 1e-4) << "mixture " << i;
@@ -241,7 +262,7 @@ TEST_F(ClTest, VmfDensityIntegratesToOne) {
 TEST_F(ClTest, VmfStaysFiniteAtTheExtremes) {
   const double inf = std::numeric_limits<double>::infinity();
   const float top = 1.0f - std::ldexp(1.0f, -24);
-  for (const double b : {-inf, std::log(1e-8), std::log(1e-4), 0.0, std::log(1e4), 1e30, inf})
+  for (const double b : {-inf, raw_b(1e-8), raw_b(1e-4), 0.0, raw_b(1e4), 1e30, inf})
     for (const double c : {-30.0, 0.0, 30.0}) {
       std::vector<double> raw = single_lobe(1.0, 1.0, 1.0);
       raw[1] = b;
@@ -267,16 +288,18 @@ TEST_F(ClTest, VmfLogPdfGradientMatchesFiniteDifferences) {
   std::mt19937 rng(3);
   constexpr std::size_t points = 4, samples = 5;
   std::vector<double> raw;
+  std::vector<dvec3> normals;
   for (std::size_t m = 0; m < points; ++m) {
     const auto r = random_mixture(rng, std::log(200.0));
     raw.insert(raw.end(), r.begin(), r.end());
+    normals.push_back(random_direction(rng));
   }
   std::vector<float> dirs;
   for (std::size_t s = 0; s < points * samples; ++s) {
     const dvec3 w = random_direction(rng);
     for (int c = 0; c < 3; ++c) dirs.push_back(float(w[c]));
   }
-  const auto grad = VmfDevice(ctx(), raw).dlogq(dirs);
+  const auto grad = VmfDevice(ctx(), raw, normals).dlogq(dirs);
   for (std::size_t s = 0; s < points * samples; ++s) {
     const std::size_t m = s / samples;
     std::vector<double> r(raw.begin() + std::ptrdiff_t(m * 32), raw.begin() + std::ptrdiff_t(m * 32 + 32));
@@ -284,9 +307,9 @@ TEST_F(ClTest, VmfLogPdfGradientMatchesFiniteDifferences) {
     for (int i = 0; i < 32; ++i) {
       const double h = 1e-5, keep = r[std::size_t(i)];
       r[std::size_t(i)] = keep + h;
-      const double up = std::log(vmf::pdf(r, w));
+      const double up = std::log(vmf::pdf(r, w, normals[m]));
       r[std::size_t(i)] = keep - h;
-      const double down = std::log(vmf::pdf(r, w));
+      const double down = std::log(vmf::pdf(r, w, normals[m]));
       r[std::size_t(i)] = keep;
       EXPECT_TRUE(near(grad[s * 32 + std::size_t(i)], (up - down) / (2 * h), {1e-2, 2e-3}))
           << "sample " << s << " raw " << i;
@@ -299,24 +322,29 @@ struct GuideBatch {
   std::size_t points, samples;
   std::vector<float> dirs, bsdf_pdf, pdf, weight, emitted, radiance;
   std::vector<int> lookup;
+  std::vector<float> scattered;  // the N-Module's radiance at each point (RGB): F is its luminance
 };
+
+double luminance(const float* rgb) { return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]; }
 
 struct GuideResult {
   std::vector<float> d_raw;
   double loss;
 };
 
-GuideResult run_guide_loss(cl::Context& ctx, const std::vector<double>& raw, const GuideBatch& g, bool improved) {
-  VmfDevice dev(ctx, raw);
+GuideResult run_guide_loss(cl::Context& ctx, const std::vector<double>& raw, const GuideBatch& g, bool improved,
+                           const std::vector<dvec3>& normals = {}) {
+  VmfDevice dev(ctx, raw, normals);
   std::vector<float> radiance = g.radiance;
   if (radiance.empty()) radiance.assign(3, 0.0f);
   cl::Buffer<float> dirs(ctx, std::span<const float>(g.dirs)), bp(ctx, std::span<const float>(g.bsdf_pdf)),
       pdf(ctx, std::span<const float>(g.pdf)), w(ctx, std::span<const float>(g.weight)),
-      e(ctx, std::span<const float>(g.emitted)), rad(ctx, std::span<const float>(radiance));
+      e(ctx, std::span<const float>(g.emitted)), rad(ctx, std::span<const float>(radiance)),
+      scattered(ctx, std::span<const float>(g.scattered));
   cl::Buffer<int> lookup(ctx, std::span<const int>(g.lookup));
   auto out_host = with_canaries(g.points * 32);
   cl::Buffer<float> out(ctx, std::span<const float>(out_host));
-  dev.vmf().loss({dirs, bp, pdf, w, e, lookup, rad}, g.samples, improved, out);
+  dev.vmf().loss({dirs, bp, pdf, w, e, lookup, rad, scattered}, g.samples, improved, out);
   out.read(out_host);
   EXPECT_TRUE(canaries_intact(out_host, g.points * 32));
   out_host.resize(g.points * 32);
@@ -344,11 +372,13 @@ std::vector<vmf::GuideSample> twin_samples(const GuideBatch& g, std::size_t m) {
 TEST_F(ClTest, GuideKlAndIklGradientsMatchFiniteDifferences) {
   std::mt19937 rng(9);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  GuideBatch g{3, 6, {}, {}, {}, {}, {}, {}, {}};
+  GuideBatch g{3, 6, {}, {}, {}, {}, {}, {}, {}, {}};
   std::vector<double> raw;
+  std::vector<dvec3> normals;
   for (std::size_t m = 0; m < g.points; ++m) {
     const auto r = random_mixture(rng, std::log(50.0));
     raw.insert(raw.end(), r.begin(), r.end());
+    normals.push_back(random_direction(rng));
   }
   int rows = 0;
   for (std::size_t s = 0; s < g.points * g.samples; ++s) {
@@ -364,21 +394,23 @@ TEST_F(ClTest, GuideKlAndIklGradientsMatchFiniteDifferences) {
     g.lookup.push_back(hit ? rows++ : -1);
   }
   for (int i = 0; i < 3 * rows; ++i) g.radiance.push_back(2 * u(rng));
+  for (std::size_t i = 0; i < 3 * g.points; ++i) g.scattered.push_back(0.1f + u(rng));
 
   for (const bool improved : {false, true}) {
-    const GuideResult got = run_guide_loss(ctx(), raw, g, improved);
+    const GuideResult got = run_guide_loss(ctx(), raw, g, improved, normals);
     double loss = 0;
     for (std::size_t m = 0; m < g.points; ++m) {
       const auto samples = twin_samples(g, m);
       std::vector<double> r(raw.begin() + std::ptrdiff_t(m * 32), raw.begin() + std::ptrdiff_t(m * 32 + 32));
       const double scale = 1.0 / double(g.points);
-      loss += scale * vmf::guide_loss(r, samples, g.samples, improved);
+      const double F = luminance(&g.scattered[3 * m]);
+      loss += scale * vmf::guide_loss(r, samples, F, g.samples, improved, normals[m]);
       for (int i = 0; i < 32; ++i) {
         const double h = 1e-5, keep = r[std::size_t(i)];
         r[std::size_t(i)] = keep + h;
-        const double up = vmf::guide_loss(r, samples, g.samples, improved);
+        const double up = vmf::guide_loss(r, samples, F, g.samples, improved, normals[m]);
         r[std::size_t(i)] = keep - h;
-        const double down = vmf::guide_loss(r, samples, g.samples, improved);
+        const double down = vmf::guide_loss(r, samples, F, g.samples, improved, normals[m]);
         r[std::size_t(i)] = keep;
         EXPECT_TRUE(near(got.d_raw[m * 32 + std::size_t(i)], scale * (up - down) / (2 * h), {1e-2, 1e-4}))
             << (improved ? "IKL" : "KL") << " point " << m << " raw " << i;
@@ -388,18 +420,19 @@ TEST_F(ClTest, GuideKlAndIklGradientsMatchFiniteDifferences) {
   }
 }
 
-// One lit sample and one dark one: F = t/(2p̃), so p = 2p̃ at the lit sample and p̃ sets p/q by hand. IKL's gradient
-// is KL's where p > q and its negative where p < q; at p = q the IKL loss vanishes and the magnitude is KL's.
+// One lit sample (t = 1) and one dark one, F = 1/(2p̃): p = 2p̃ at the lit sample, and p̃ sets p/q by hand. IKL's
+// gradient is KL's where p > q and its negative where p < q; at p = q the IKL loss vanishes and the magnitude is KL's.
 TEST_F(ClTest, IklFlipsTheKlGradientWherePIsBelowQ) {
   std::mt19937 rng(4);
   const auto raw = random_mixture(rng, std::log(30.0));
   const dvec3 w = random_direction(rng);
   const double q = vmf::pdf(raw, w);
   for (const double ratio : {4.0, 0.25, 1.0}) {  // p / q
-    GuideBatch g{1, 2, {}, {1.0f, 1.0f}, {}, {}, {}, {}, {-1, -1}};
+    GuideBatch g{1, 2, {}, {1.0f, 1.0f}, {}, {}, {}, {}, {-1, -1}, {}};
     for (int i = 0; i < 2; ++i)
       for (int c = 0; c < 3; ++c) g.dirs.push_back(float(w[c]));
     g.pdf = {float(ratio * q / 2), 1.0f};
+    g.scattered.assign(3, float(1 / (ratio * q)));  // grey: its luminance is F
     g.emitted = {1, 1, 1, 0, 0, 0};
     g.weight.assign(6, 0.0f);
     const auto kl = run_guide_loss(ctx(), raw, g, false), ikl = run_guide_loss(ctx(), raw, g, true);

@@ -13,6 +13,8 @@ namespace clr::test::vmf {
 
 inline constexpr int kLobes = 8, kRaw = 32;
 inline constexpr double kLogKappaMin = -9.2103403719761836, kLogKappaMax = 9.2103403719761836;  // κ ∈ [1e-4, 1e4]
+// The offsets on the raw b and c: raw 0 is a lobe of κ = 3 at θ = 36° (σ(c₀) = 0.2) from the frame's normal.
+inline constexpr double kLogKappa0 = 1.0986122886681098, kC0 = -1.3862943611198906;
 
 using dvec3 = glm::dvec3;
 
@@ -23,17 +25,29 @@ struct Lobe {
 
 inline double sigmoid(double x) { return 1.0 / (1.0 + std::exp(-x)); }
 
-inline std::array<Lobe, kLobes> decode(std::span<const double> raw) {
+inline const dvec3 kUp(0, 0, 1);
+
+// The tangent frame about n (vmf_frame): continuous in n away from ±(0.48, 0.6, 0.64).
+inline void frame(const dvec3& n, dvec3& t, dvec3& s) {
+  dvec3 c = glm::cross(dvec3(0.48, 0.6, 0.64), n);
+  if (glm::dot(c, c) < 1e-4) c = glm::cross(dvec3(0.8, -0.6, 0.0), n);
+  t = glm::normalize(c);
+  s = glm::cross(n, t);
+}
+
+inline std::array<Lobe, kLobes> decode(std::span<const double> raw, const dvec3& n = kUp) {
   std::array<Lobe, kLobes> lobes;
+  dvec3 t, s;
+  frame(n, t, s);
   double amax = raw[0];
   for (int k = 1; k < kLobes; ++k) amax = std::max(amax, raw[4 * k]);
   double sum = 0;
   for (int k = 0; k < kLobes; ++k) sum += std::exp(raw[4 * k] - amax);
   for (int k = 0; k < kLobes; ++k) {
-    const double theta = M_PI * sigmoid(raw[4 * k + 2]), phi = 2 * M_PI * sigmoid(raw[4 * k + 3]);
+    const double theta = M_PI * sigmoid(raw[4 * k + 2] + kC0), phi = 2 * M_PI * sigmoid(raw[4 * k + 3]);
     lobes[k] = {std::exp(raw[4 * k] - amax) / sum,
-                std::exp(std::clamp(raw[4 * k + 1], kLogKappaMin, kLogKappaMax)),
-                {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)}};
+                std::exp(std::clamp(raw[4 * k + 1] + kLogKappa0, kLogKappaMin, kLogKappaMax)),
+                std::sin(theta) * std::cos(phi) * t + std::sin(theta) * std::sin(phi) * s + std::cos(theta) * n};
   }
   return lobes;
 }
@@ -49,7 +63,7 @@ inline double pdf(const std::array<Lobe, kLobes>& lobes, const dvec3& w) {
   return q;
 }
 
-inline double pdf(std::span<const double> raw, const dvec3& w) { return pdf(decode(raw), w); }
+inline double pdf(std::span<const double> raw, const dvec3& w, const dvec3& n = kUp) { return pdf(decode(raw, n), w); }
 
 // cos θ about μ from the inverse CDF, φ uniform; any orthonormal frame around μ (the χ² tests bin directions).
 inline dvec3 sample_lobe(const Lobe& l, double u1, double u2) {
@@ -67,19 +81,16 @@ struct GuideSample {
   dvec3 w;
 };
 
-// (1/N) Σ p/p̃ · log(p/q) (KL) or its absolute value (IKL), p = t/F, F = (1/N) Σ t/p̃, with p and p̃ constants: its
-// gradient w.r.t. raw is guide_loss's.
-inline double guide_loss(std::span<const double> raw, std::span<const GuideSample> s, std::size_t n_total,
-                         bool improved) {
-  double F = 0;
-  for (const auto& x : s) F += x.target / x.pdf;
-  F /= double(n_total);
+// (1/N) Σ p/p̃ · log(p/q) (KL) or its absolute value (IKL), p = t/F with F the N-Module's radiance at the point, p
+// and p̃ constants: its gradient w.r.t. raw is guide_loss's.
+inline double guide_loss(std::span<const double> raw, std::span<const GuideSample> s, double F, std::size_t n_total,
+                         bool improved, const dvec3& n = kUp) {
   if (!(F > 0)) return 0;
   double loss = 0;
   for (const auto& x : s) {
     const double p = x.target / F;
     if (p <= 0) continue;
-    const double log_ratio = std::log(p) - std::log(pdf(raw, x.w));
+    const double log_ratio = std::log(p) - std::log(pdf(raw, x.w, n));
     loss += p / x.pdf / double(n_total) * (improved ? std::abs(log_ratio) : log_ratio);
   }
   return loss;

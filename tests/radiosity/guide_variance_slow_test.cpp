@@ -3,10 +3,9 @@
 // the right-hand side, under the mixture training draws from (BSDF share 0.5), must be below BSDF sampling's — the
 // variance ISNR exists to cut. Prints both variances and the residuals at each check.
 //
-// DISABLED: it does not hold yet, the open part of the ISNR issue. Measured (600 NR steps, 32768 points × 16
-// samples): BSDF sampling 474.5; the mixture 1183 untrained, then 448–633 after 200–1000 I-Module steps at the
-// default learning rate (466–653 at 1e-3, 509–577 at 2e-2) — no better than BSDF sampling within the noise of so
-// heavy-tailed an estimate. Run it with --gtest_also_run_disabled_tests.
+// Measured (600 NR steps, 32768 points × 16 samples, 2-core Xeon): BSDF sampling 899; the mixture 576 untrained,
+// then 400, 224, 162 after 200, 500, 1000 I-Module steps. (Before F came from the N-Module at the point, it was
+// estimated from the N samples themselves, and the mixture stayed at 448–633 against 475: no better.)
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -22,7 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-TEST_F(ClTest, DISABLED_GuideTrainedAloneCutsTheRhsVarianceOnVeachBidir) {
+TEST_F(ClTest, GuideTrainedAloneCutsTheRhsVarianceOnVeachBidir) {
   const fs::path dir = fs::path(CLR_SHARED_SCENES) / "veach-bidir";
   if (!fs::exists(dir / "scene.xml")) GTEST_SKIP() << "no " << dir;
   const auto scene = scene::load_scene(dir / "scene.xml");
@@ -40,6 +39,7 @@ TEST_F(ClTest, DISABLED_GuideTrainedAloneCutsTheRhsVarianceOnVeachBidir) {
   radiosity::Trainer(ctx(), geometry, config, nr_run, false).run();
 
   config.method = "isnr";
+  config.guide_warmup = 0.0;  // step() by hand runs no budget: the mixture from the first step
   radiosity::Trainer guided(ctx(), geometry, config, isnr_run, false);
   guided.network().load((nr_run / "model.clr").string());
   guided.hold_radiance(true);
@@ -57,7 +57,8 @@ TEST_F(ClTest, DISABLED_GuideTrainedAloneCutsTheRhsVarianceOnVeachBidir) {
   }
   fs::remove_all(nr_run);
   fs::remove_all(isnr_run);
-  EXPECT_LT(mixture.rhs_variance, bsdf.rhs_variance);
+  // Half of BSDF sampling's: a margin well outside the heavy-tailed estimate's noise (0.27× measured).
+  EXPECT_LT(mixture.rhs_variance, 0.5 * bsdf.rhs_variance);
 }
 
 }  // namespace

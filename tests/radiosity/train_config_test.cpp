@@ -80,6 +80,19 @@ TEST(TrainConfig, RelativeResidualFadesToL2OverTheBudget) {
   EXPECT_THAT(error_of({{"relative_fade_end", -0.1}}), HasSubstr("relative_fade_end"));
 }
 
+TEST(TrainConfig, GuidedShareRampsInOverTheWarmUp) {
+  TrainConfig c;
+  c.bsdf_fraction = 0.4;
+  c.guide_warmup = 0.2;
+  EXPECT_EQ(c.bsdf_fraction_at(0.0), 1.0) << "nothing is drawn from the untrained guide";
+  EXPECT_NEAR(c.bsdf_fraction_at(0.1), 0.7, 1e-12);
+  EXPECT_EQ(c.bsdf_fraction_at(0.2), 0.4);
+  EXPECT_EQ(c.bsdf_fraction_at(2.0), 0.4);
+  c.guide_warmup = 0.0;
+  EXPECT_EQ(c.bsdf_fraction_at(0.0), 0.4) << "guide_warmup 0 guides from the first step";
+  EXPECT_THAT(error_of({{"guide_warmup", 1.5}}), HasSubstr("guide_warmup"));
+}
+
 TEST(TrainConfig, FileErrorsNameTheFile) {
   const auto path = std::filesystem::temp_directory_path() / "clr_bad_config.json";
   std::ofstream(path) << "{ \"samples\": 4,";

@@ -160,6 +160,7 @@ TEST_F(Training, IsnrResumeIsBitExact) {
   // Schedules that depend on the budget would differ between a 20-step and a 40-step session.
   config.anneal_start = 1.0;
   config.relative_fade_end = 0.0;
+  config.guide_warmup = 0.0;
   ASSERT_EQ(config.method, "isnr");
   TempRun straight("isnr_straight"), halves("isnr_halves");
   radiosity::Trainer a(ctx(), geometry, config, straight.path, false);
