@@ -21,3 +21,13 @@ target_link_libraries(clr_deps INTERFACE OpenCL::OpenCL embree OpenEXR::OpenEXR 
                                          PkgConfig::STB Threads::Threads ZLIB::ZLIB)
 # GLM: radians everywhere, explicit constructors keep float/double mixing visible.
 target_compile_definitions(clr_deps INTERFACE GLM_FORCE_RADIANS GLM_FORCE_XYZW_ONLY)
+
+# MPI is optional (data-parallel training and distributed references, README "MPI"): on when found, and without
+# it the build and every command behave as a single process. Only host/distributed/communicator_mpi.cpp sees
+# mpi.h, so switching it changes one object file rather than the whole library.
+find_package(MPI COMPONENTS C QUIET)
+option(CLR_MPI "Build the MPI communicator (mpirun -np R clradiosity train|reference)" ${MPI_C_FOUND})
+if(CLR_MPI AND NOT MPI_C_FOUND)
+  message(FATAL_ERROR "CLR_MPI is on but no MPI was found (apt-get install libopenmpi-dev openmpi-bin)")
+endif()
+message(STATUS "MPI: ${CLR_MPI}")

@@ -105,7 +105,7 @@ std::vector<DeviceInfo> list_devices() {
   return out;
 }
 
-DeviceInfo select_device(const std::vector<DeviceInfo>& devices, const std::string& requested) {
+DeviceInfo select_device(const std::vector<DeviceInfo>& devices, const std::string& requested, unsigned nth) {
   std::string spec = requested;
   std::string origin = "--device";
   if (spec.empty()) {
@@ -123,11 +123,16 @@ DeviceInfo select_device(const std::vector<DeviceInfo>& devices, const std::stri
   };
   if (devices.empty()) return fail(spec.empty() ? "no OpenCL device" : origin + " '" + spec + "' matches no device");
 
+  // The matches in listing order; the nth of them, round-robin, so ranks on one machine spread over its devices.
+  std::vector<const DeviceInfo*> matches;
+  const auto pick = [&] { return *matches[nth % matches.size()]; };
   if (spec.empty()) {
-    for (const char* type : {"gpu", "cpu"})
+    for (const char* type : {"gpu", "cpu"}) {
       for (const auto& d : devices)
-        if (d.type == type) return d;
-    return devices.front();
+        if (d.type == type) matches.push_back(&d);
+      if (!matches.empty()) return pick();
+    }
+    return devices[nth % devices.size()];
   }
   if (const auto idx = parse_indices(spec)) {
     for (const auto& d : devices)
@@ -138,10 +143,11 @@ DeviceInfo select_device(const std::vector<DeviceInfo>& devices, const std::stri
   for (const auto& d : devices)
     if (lower(d.platform_name + " " + d.platform_vendor + " " + d.name + " " + d.type).find(needle) !=
         std::string::npos)
-      return d;
+      matches.push_back(&d);
+  if (!matches.empty()) return pick();
   return fail(origin + " '" + spec + "' matches no device");
 }
 
-DeviceInfo select_device(const std::string& spec) { return select_device(list_devices(), spec); }
+DeviceInfo select_device(const std::string& spec, unsigned nth) { return select_device(list_devices(), spec, nth); }
 
 }  // namespace clr::cl

@@ -38,9 +38,10 @@ struct DeviceInfo {
 // Every device of every platform. An absent ICD (no platforms) yields an empty list, not an error.
 std::vector<DeviceInfo> list_devices();
 
-// Resolves SPEC (empty: CLRADIOSITY_DEVICE, then the default rule) against `devices`.
+// Resolves SPEC (empty: CLRADIOSITY_DEVICE, then the default rule) against `devices`: the first match, or with
+// `nth` the nth of the matches round-robin (an MPI rank passes its local rank; "P:D" pins one device).
 // Throws InputError naming the spec and listing what exists when nothing matches.
-DeviceInfo select_device(const std::vector<DeviceInfo>& devices, const std::string& spec);
-DeviceInfo select_device(const std::string& spec = "");
+DeviceInfo select_device(const std::vector<DeviceInfo>& devices, const std::string& spec, unsigned nth = 0);
+DeviceInfo select_device(const std::string& spec = "", unsigned nth = 0);
 
 }  // namespace clr::cl

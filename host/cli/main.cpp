@@ -1,4 +1,5 @@
 // clradiosity: exit 0 on success, 1 on a runtime failure, 2 on bad input or usage, always with one line on stderr.
+// Under mpirun a failing rank names itself in that line and ends the whole job with its exit code.
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -7,6 +8,8 @@
 #include "cli/command.hpp"
 #include "cli/failure_message.hpp"
 #include "common/error.hpp"
+#include "common/progress.hpp"
+#include "distributed/communicator.hpp"
 
 namespace clr::cli {
 
@@ -21,9 +24,14 @@ void add_device_option(CLI::App& cmd, std::string& spec) {
 namespace {
 // Training budget of the main job: short enough for a first run, long enough for a recognisable image.
 constexpr double kMainJobMinutes = 2.0;
-}  // namespace
 
-int main(int argc, char** argv) {
+// "rank 1: " before a failure's message in a job of several ranks, so the line names the process at fault.
+std::string rank_prefix() {
+  const auto& ranks = clr::distributed::Communicator::world();
+  return ranks.distributed() ? "rank " + std::to_string(ranks.rank()) + ": " : "";
+}
+
+int run(int argc, char** argv) {
   CLI::App app{"clradiosity: Importance-Sampling-Guided Neural Radiosity on OpenCL devices", "clradiosity"};
   app.set_version_flag("--version", std::string("clradiosity ") + CLR_VERSION);
   app.require_subcommand(0, 1);
@@ -50,13 +58,22 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "clradiosity: error: " << e.what() << " (see --help)\n";
+    std::cerr << "clradiosity: error: " << rank_prefix() << e.what() << " (see --help)\n";
     return 2;
   } catch (const clr::InputError& e) {
-    std::cerr << "clradiosity: error: " << e.what() << "\n";
+    std::cerr << "clradiosity: error: " << rank_prefix() << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "clradiosity: failed: " << clr::cli::failure_message(e, command) << "\n";
+    std::cerr << "clradiosity: failed: " << rank_prefix() << clr::cli::failure_message(e, command) << "\n";
     return 1;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // MPI starts before the OpenCL runtime's threads do, and only under mpirun (Communicator::world).
+  auto& ranks = clr::distributed::Communicator::world();
+  if (ranks.rank() != 0) clr::Progress::silence_process();
+  return ranks.finish(run(argc, argv));
 }

@@ -5,6 +5,7 @@
 #include "cli/command.hpp"
 #include "cli/number_checks.hpp"
 #include "common/atomic_file.hpp"
+#include "distributed/image_rows.hpp"
 #include "geometry/geometry.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/scene.hpp"
@@ -31,23 +32,34 @@ Command add_reference_command(CLI::App& app) {
   cmd->add_option("--seed", opt->render.seed, "Random seed")->check(integer_at_least(0));
   cmd->add_option("-o,--output", opt->output, "Output EXR")->required();
 
-  return {cmd, [opt]() {
-            require_output_path(opt->output, "-o");
-            const scene::Scene scene = scene::load_scene(opt->scene);
-            scene::require_sensor(scene, opt->scene);
-            scene::require_emitter(scene, opt->scene);
-            const geometry::Geometry geometry(scene);
-            reference::RenderStats stats;
-            const auto img = reference::render(geometry, opt->render, &stats);
-            image::write_exr(opt->output, img);
-            std::printf("%s: %dx%d, %d spp, %.1f s, %.2f Msamples/s, %.2f Mrays/s%s\n", opt->output.c_str(), img.width,
-                        img.height, opt->render.spp, stats.seconds, double(stats.paths) / stats.seconds * 1e-6,
-                        double(stats.rays) / stats.seconds * 1e-6,
-                        stats.non_finite
-                            ? (", " + std::to_string(stats.non_finite) + " non-finite samples dropped").c_str()
-                            : "");
-            return 0;
-          }};
+  return {
+      cmd, [opt]() {
+        // Under mpirun the ranks share the rows and rank 0 alone writes the image.
+        const auto& ranks = distributed::Communicator::world();
+        if (ranks.rank() == 0) require_output_path(opt->output, "-o");
+        const scene::Scene scene = scene::load_scene(opt->scene);
+        scene::require_sensor(scene, opt->scene);
+        scene::require_emitter(scene, opt->scene);
+        const geometry::Geometry geometry(scene);
+        reference::RenderStats stats;
+        opt->render.row_offset = ranks.rank();
+        opt->render.row_stride = ranks.size();
+        const auto img = distributed::gather_interleaved_rows(ranks, reference::render(geometry, opt->render, &stats));
+        double totals[] = {double(stats.paths), double(stats.rays), double(stats.non_finite)};
+        ranks.sum(totals);
+        stats.paths = std::uint64_t(totals[0]);
+        stats.rays = std::uint64_t(totals[1]);
+        stats.non_finite = std::uint64_t(totals[2]);
+        stats.seconds = ranks.max(stats.seconds);
+        if (ranks.rank() != 0) return 0;
+        image::write_exr(opt->output, img);
+        std::printf(
+            "%s: %dx%d, %d spp, %.1f s, %.2f Msamples/s, %.2f Mrays/s%s\n", opt->output.c_str(), img.width, img.height,
+            opt->render.spp, stats.seconds, double(stats.paths) / stats.seconds * 1e-6,
+            double(stats.rays) / stats.seconds * 1e-6,
+            stats.non_finite ? (", " + std::to_string(stats.non_finite) + " non-finite samples dropped").c_str() : "");
+        return 0;
+      }};
 }
 
 }  // namespace clr::cli

@@ -1,17 +1,35 @@
 // clradiosity train SCENE.xml [--method isnr|nr] [--is-loss ikl|kl] [--bsdf-fraction C] [--samples N] [--batch M]
 //                  [--steps S | --minutes T] [--seed K] [--config FILE.json] [--resume] -o RUN_DIR
+#include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "cl/context.hpp"
 #include "cli/command.hpp"
 #include "cli/number_checks.hpp"
 #include "common/error.hpp"
 #include "common/run_lock.hpp"
+#include "distributed/communicator.hpp"
 #include "geometry/geometry.hpp"
 #include "radiosity/trainer.hpp"
 #include "scene/scene.hpp"
 
 namespace clr::cli {
+namespace {
+
+// The exchange's cost per step as rank 0 saw it (README "MPI": the scaling model starts from these numbers).
+void print_exchange(const distributed::ExchangeStats& s, std::uint64_t steps) {
+  if (steps == 0) return;
+  const double n = double(steps);
+  std::fprintf(
+      stderr,
+      "mpi: exchange %.1f KiB/step (dense %.1f KiB), %.2f ms/step in MPI_Allreduce, %.2f ms/step exchanging in "
+      "all, %.2f ms/step waiting for the slowest rank\n",
+      double(s.bytes) / n / 1024.0, double(s.dense_bytes) / n / 1024.0, s.allreduce_seconds / n * 1e3,
+      s.total_seconds / n * 1e3, s.wait_seconds / n * 1e3);
+}
+
+}  // namespace
 
 Command add_train_command(CLI::App& app) {
   struct Options {
@@ -81,17 +99,27 @@ Command add_train_command(CLI::App& app) {
             const auto scene = scene::load_scene(opt->scene);
             scene::require_emitter(scene, opt->scene);
             const geometry::Geometry geometry(scene);
-            cl::Context ctx(cl::select_device(opt->device));
-            const RunLock lock(opt->run_dir, !opt->resume);  // held until the run ends: one writer per RUN_DIR
-            radiosity::Trainer trainer(ctx, geometry, config, opt->run_dir, opt->resume);
+            // Under mpirun each rank takes the next of the matching devices on its machine; rank 0 alone writes.
+            const auto& ranks = distributed::Communicator::world();
+            cl::Context ctx(cl::select_device(opt->device, unsigned(ranks.local_rank())));
+            std::optional<RunLock> lock;  // held until the run ends: one writer per RUN_DIR
+            if (ranks.rank() == 0) lock.emplace(opt->run_dir, !opt->resume);
+            radiosity::Trainer trainer(ctx, geometry, config, opt->run_dir, opt->resume, ranks);
+            const auto first_step = trainer.steps_done();
+            if (ranks.rank() != 0) {
+              trainer.run();
+              return 0;
+            }
             std::cerr << "train: " << opt->scene << " on " << ctx.device().describe() << ", " << trainer.config().method
                       << ", batch " << trainer.config().batch << " × " << trainer.config().samples << " samples, "
                       << trainer.network().parameter_count() << " parameters";
             if (auto* guide = trainer.guide())
               std::cerr << " + I-Module " << guide->parameter_count() << " (" << trainer.config().is_loss
                         << ", BSDF share " << trainer.config().bsdf_fraction << ")";
+            if (ranks.distributed()) std::cerr << ", " << ranks.size() << " MPI ranks";
             std::cerr << "\n";
             trainer.run();
+            if (ranks.distributed()) print_exchange(trainer.exchange().stats(), trainer.steps_done() - first_step);
             std::cout << "model: " << opt->run_dir << "/model.clr (" << trainer.steps_done() << " steps)\n";
             return 0;
           }};

@@ -27,7 +27,7 @@ Progress::Progress(std::string label, double total, double interval_seconds)
       last_print_(start_) {}
 
 Progress::~Progress() {
-  if (tty_ && !finished_) std::fputc('\n', stderr);
+  if (tty_ && !finished_ && !silent_) std::fputc('\n', stderr);
 }
 
 double Progress::elapsed_seconds() const {
@@ -48,7 +48,10 @@ void Progress::finish(const std::string& detail) {
   finished_ = true;
 }
 
+void Progress::silence_process() { silent_ = true; }
+
 void Progress::print(double done, const std::string& detail, bool final) {
+  if (silent_) return;
   const double t = elapsed_seconds();
   std::string line = label_;
   char buf[96];

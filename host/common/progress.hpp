@@ -16,6 +16,8 @@ class Progress {
   // Prints the final line unconditionally.
   void finish(const std::string& detail = "");
   double elapsed_seconds() const;
+  // Silences every Progress of this process: MPI ranks other than 0, whose lines would repeat rank 0's.
+  static void silence_process();
 
  private:
   void print(double done, const std::string& detail, bool final);
@@ -27,6 +29,7 @@ class Progress {
   bool finished_ = false;
   double last_done_ = 0;
   std::chrono::steady_clock::time_point start_, last_print_;
+  static inline bool silent_ = false;
 };
 
 }  // namespace clr

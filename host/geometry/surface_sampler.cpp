@@ -30,10 +30,10 @@ SurfaceSampler::SurfaceSampler(const scene::Scene& scene) : scene_(&scene) {
   if (cdf_.empty()) throw InputError("the scene has no surface with a non-delta BSDF to sample");
 }
 
-void SurfaceSampler::sample(std::uint64_t seed, std::span<SurfaceSample> out) const {
+void SurfaceSampler::sample(std::uint64_t seed, std::span<SurfaceSample> out, std::size_t first) const {
   parallel_for(out.size(), 4096, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
-      Pcg32 rng(i, seed);
+      Pcg32 rng(first + i, seed);
       const double target = rng.next_double() * total_area_;
       const auto k = std::size_t(std::min<std::ptrdiff_t>(
           std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin(), std::ptrdiff_t(cdf_.size()) - 1));

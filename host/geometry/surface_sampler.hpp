@@ -22,8 +22,9 @@ class SurfaceSampler {
   // Keeps a reference to `scene`. InputError when no shape has a non-delta BSDF.
   explicit SurfaceSampler(const scene::Scene& scene);
 
-  // Fills `out` (any size) with independent area-uniform samples; the density is 1 / total_area().
-  void sample(std::uint64_t seed, std::span<SurfaceSample> out) const;
+  // Fills `out` (any size) with independent area-uniform samples; the density is 1 / total_area(). out[i] is
+  // sample first + i of the seed's sequence, so slices of one sequence can be drawn apart (MPI ranks).
+  void sample(std::uint64_t seed, std::span<SurfaceSample> out, std::size_t first = 0) const;
   std::vector<SurfaceSample> sample(std::uint64_t seed, std::size_t count) const;
   double total_area() const { return total_area_; }
 

@@ -58,6 +58,9 @@ class HashGrid {
   std::vector<float> gradient() const;
   void clear_gradient();
   bool fixed_point_gradient() const { return fixed_; }
+  // The raw gradient buffer of the mode in use (the other is empty): what MPI ranks sum (distributed/).
+  cl::Buffer<float>& float_gradient() { return grad_; }
+  cl::Buffer<std::int64_t>& fixed_gradient() { return grad_fixed_; }
   cl::Buffer<std::uint8_t>& touched() { return touched_; }
   Adam& adam() { return adam_; }
   const cl::Buffer<float>& params() const { return table_; }

@@ -64,7 +64,9 @@ class Network {
   const NetworkConfig& config() const { return config_; }
   std::size_t outputs() const { return config_.outputs; }
   Encoder& encoder() { return encoder_; }
+  const Encoder& encoder() const { return encoder_; }
   Mlp& mlp() { return mlp_; }
+  const Mlp& mlp() const { return mlp_; }
   Gemm& gemm() { return gemm_; }
   std::size_t parameter_count() const;
 

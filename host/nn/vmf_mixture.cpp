@@ -41,10 +41,12 @@ void VmfMixture::dlogq(const cl::Buffer<float>& dirs, std::size_t samples, cl::B
   dlogq_.args(lobes_, dirs, u32(points_), u32(samples), out).launch(points_ * samples);
 }
 
-void VmfMixture::loss(const GuideSamples& s, std::size_t samples, bool improved, cl::Buffer<float>& d_raw) {
+void VmfMixture::loss(const GuideSamples& s, std::size_t samples, bool improved, cl::Buffer<float>& d_raw,
+                      std::size_t mean_over) {
   loss_
       .args(u32(points_), u32(samples), lobes_, s.dirs, s.bsdf_pdf, s.pdf, s.weight, s.emitted, s.lookup, s.radiance,
-            s.scattered, s.scattered_scale, improved ? 1u : 0u, 1.0f / float(points_), d_raw, total_, non_finite_)
+            s.scattered, s.scattered_scale, improved ? 1u : 0u, 1.0f / float(mean_over ? mean_over : points_), d_raw,
+            total_, non_finite_)
       .launch(points_);
 }
 

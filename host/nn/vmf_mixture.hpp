@@ -51,8 +51,10 @@ class VmfMixture {
   // out[s · kVmfRaw + i] = ∂log q(ω_s)/∂raw_i of the sample's point.
   void dlogq(const cl::Buffer<float>& dirs, std::size_t samples, cl::Buffer<float>& out);
   // d_raw [points × kVmfRaw] = gradient of the mean over points of the KL (improved = false, Eq. 17) or IKL
-  // (Eq. 20) estimate; the loss value accumulates on the device until take(). Enqueues only.
-  void loss(const GuideSamples& s, std::size_t samples, bool improved, cl::Buffer<float>& d_raw);
+  // (Eq. 20) estimate; the loss value accumulates on the device until take(). Enqueues only. `mean_over` (0: the
+  // decoded points) is the batch the mean is over: an MPI rank holds a share of it, and the ranks' sums are the mean.
+  void loss(const GuideSamples& s, std::size_t samples, bool improved, cl::Buffer<float>& d_raw,
+            std::size_t mean_over = 0);
   // Reads and resets the accumulated loss and the count of dropped non-finite samples (a sync point).
   LossValue take();
 

@@ -15,7 +15,7 @@ void IncidentSampling::sample(const geometry::Geometry& geometry, const BatchSet
   }
   if (guided) {
     // A direction from the lobes for every sample; the host uses those of the samples that pick the guide.
-    guide_uniforms(M, N, seed, step, uniforms_host_);
+    guide_uniforms(M, N, seed, step, uniforms_host_, batch.first_point);
     cl::upload(*ctx_, uniforms_, uniforms_host_);
     cl::reserve(*ctx_, guided_, M * N * 3);
     vmf_.sample(uniforms_, N, guided_);

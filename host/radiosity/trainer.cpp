@@ -13,6 +13,7 @@
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "common/stop_signal.hpp"
+#include "distributed/share.hpp"
 #include "nn/checkpoint.hpp"
 #include "radiosity/radiance_scale.hpp"
 #include "radiosity/trained_model.hpp"
@@ -112,7 +113,7 @@ void remove_stale_temporaries(const fs::path& run_dir) {
 }  // namespace
 
 Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConfig config, fs::path run_dir,
-                 bool resume)
+                 bool resume, const distributed::Communicator& ranks)
     : ctx_(&ctx),
       geometry_(&geometry),
       sampler_(geometry.scene()),
@@ -121,9 +122,12 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
       loss_(ctx),
       incident_(ctx),
       non_finite_(ctx, 1),
-      rhs_kernel_(ctx.program({"radiosity.cl"}).kernel("incident_rhs")) {
+      rhs_kernel_(ctx.program({"radiosity.cl"}).kernel("incident_rhs")),
+      exchange_(ctx, ranks) {
   const fs::path model = run_dir_ / "model.clr";
-  if (resume) {
+  if (!writes_run_dir()) {
+    // Rank 0's config and networks arrive in share_rank0_state.
+  } else if (resume) {
     if (!fs::exists(model)) throw InputError("--resume: no checkpoint " + model.string());
     remove_stale_temporaries(run_dir_);
     // The run's own settings win; only the stopping rule comes from this invocation. A run written before ISNR
@@ -160,8 +164,11 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
     write_text_atomically(run_dir_ / "config.json", nlohmann::json(config_).dump(2) + "\n");
     write_text_atomically(run_dir_ / "log.csv", std::string(kLogHeader) + (guide_ ? kGuideLogColumns : "") + "\n");
   }
+  share_rank0_state();
   residual_power_ = float(config_.relative_power(0.0));
-  batch_settings_.points = std::size_t(config_.batch);
+  const auto share = distributed::share_of(std::size_t(config_.batch), ranks.rank(), ranks.size());
+  batch_settings_.points = share.count;
+  batch_settings_.first_point = share.first;
   batch_settings_.samples = std::size_t(config_.samples);
   batch_settings_.guide = guide_ != nullptr;
   batch_settings_.bsdf_fraction = guide_ ? float(config_.bsdf_fraction_at(0.0)) : 1.0f;
@@ -192,9 +199,11 @@ StepStats Trainer::step() {
     network_->forward_train(point_rows_, M, train_ctx_);
     // Mean over points and channels, so the learning rate does not depend on the batch size.
     // The right-hand side is in radiance (infer applies the output scale); the raw outputs are in its units.
-    loss_.evaluate(train_ctx_.output(), rhs_, M * 3, 1.0f / float(M * 3), residual_power_, d_output_,
-                   1.0f / network_->config().output_scale);
+    // Over the global batch: the ranks' gradients, summed, are the one-process gradient.
+    loss_.evaluate(train_ctx_.output(), rhs_, M * 3, 1.0f / float(std::size_t(config_.batch) * 3), residual_power_,
+                   d_output_, 1.0f / network_->config().output_scale);
     network_->backward(train_ctx_, d_output_);
+    exchange_.reduce(*network_);
     network_->adam_step();
   }
   if (guide_) {
@@ -210,8 +219,9 @@ StepStats Trainer::step() {
     }
     const cl::Buffer<float>& scattered = hold_radiance_ ? point_radiance_ : train_ctx_.output();
     incident_.vmf().loss(incident_.guide_samples(incident_radiance_, scattered, scale), N, config_.is_loss == "ikl",
-                         d_lobes_);
+                         d_lobes_, std::size_t(config_.batch));
     guide_->backward(guide_ctx_, d_lobes_);
+    exchange_.reduce(*guide_);
     guide_->adam_step();
   }
   StepStats stats;
@@ -221,12 +231,14 @@ StepStats Trainer::step() {
 }
 
 void Trainer::save_checkpoint() const {
+  if (!writes_run_dir()) return;
   nn::Checkpoint c = network_->checkpoint(std::to_string(config_.seed));
   if (guide_) guide_->add_tensors(c, "guide.");
   nn::write_checkpoint((run_dir_ / "model.clr").string(), c);
 }
 
 void Trainer::append_log(const std::string& line) const {
+  if (!writes_run_dir()) return;
   std::ofstream out(run_dir_ / "log.csv", std::ios::app);
   out << line << "\n";
   if (!out) throw std::runtime_error("cannot append to " + (run_dir_ / "log.csv").string());
@@ -251,8 +263,10 @@ void Trainer::run() {
     if (budget_s > 0) f = std::max(f, elapsed() / budget_s);
     return f;
   };
-  while (!stop_requested()) {
-    const double fraction = spent();
+  // Ranks agree on stopping and on the budget spent (the learning rate follows it), or their models would part.
+  const distributed::Communicator& ranks = exchange_.communicator();
+  while (ranks.max(stop_requested() ? 1.0 : 0.0) == 0.0) {
+    const double fraction = ranks.max(spent());
     if (fraction >= 1.0) break;
     const double lr_scale = config_.learning_rate_scale(fraction);
     network_->set_learning_rate_scale(float(lr_scale));
@@ -265,12 +279,23 @@ void Trainer::run() {
     ++loss_steps;
     const long now = long(network_->steps());
     if (now % config_.log_every == 0) {
-      const nn::LossValue v = loss_.take();
-      const nn::LossValue g = guide_ ? incident_.vmf().take() : nn::LossValue{0, 0};
+      nn::LossValue v = loss_.take();
+      nn::LossValue g = guide_ ? incident_.vmf().take() : nn::LossValue{0, 0};
       // Incident terms dropped while forming the right-hand side count too: they never reach the loss, so the
       // loss's own count cannot see them.
-      const std::uint32_t rhs_dropped = non_finite_.read()[0];
+      std::uint32_t rhs_dropped = non_finite_.read()[0];
       non_finite_.fill(0u);
+      if (ranks.distributed()) {
+        // Each rank's loss is its share of the global batch's mean: the row is their sum.
+        double totals[] = {v.loss, g.loss, double(v.non_finite + g.non_finite + rhs_dropped), double(lookups),
+                           double(guided)};
+        ranks.sum(totals);
+        v = {totals[0], std::uint32_t(totals[2])};
+        g = {totals[1], 0};
+        rhs_dropped = 0;
+        lookups = std::size_t(totals[3]);
+        guided = std::size_t(totals[4]);
+      }
       loss_sum = v.loss / double(loss_steps);
       char row[256];
       std::snprintf(row, sizeof row, "%ld,%.3f,%.6g,%.3f,%u,%.6g,%.4g", now, seconds_before_ + elapsed(), loss_sum,
@@ -293,9 +318,11 @@ void Trainer::run() {
       lookups = 0;
       guided = 0;
     }
+    if (now % kRankCheckEvery == 0) check_ranks_agree(std::uint64_t(now));
     if (now % config_.checkpoint_every == 0) save_checkpoint();
     progress.update(config_.steps > 0 ? double(now) : elapsed(), last);
   }
+  check_ranks_agree(network_->steps());
   save_checkpoint();
   progress.finish(last + (stop_requested() ? "  (stopped by signal; checkpoint written)" : ""));
 }

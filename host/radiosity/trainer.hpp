@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "cl/context.hpp"
+#include "distributed/gradient_exchange.hpp"
 #include "nn/loss.hpp"
 #include "nn/network.hpp"
 #include "radiosity/incident_sampling.hpp"
@@ -36,8 +37,10 @@ class Trainer {
  public:
   // Starts a new run in `run_dir` (which must be empty or absent), or continues one when `resume` is set:
   // then the run's config.json and model.clr are read back, and `config` only supplies the stopping rule.
+  // With several `ranks` (MPI, README "MPI") each draws its share of the global batch, gradients are summed over
+  // them before every Adam step, and rank 0 alone reads and writes RUN_DIR: the others take its config and state.
   Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConfig config, std::filesystem::path run_dir,
-          bool resume);
+          bool resume, const distributed::Communicator& ranks = distributed::Communicator::single());
 
   // Trains until the step or time budget is spent or a stop signal arrives; checkpoints at the end.
   void run();
@@ -48,12 +51,19 @@ class Trainer {
   const TrainConfig& config() const { return config_; }
   nn::Network& network() { return *network_; }
   nn::Network* guide() { return guide_.get(); }  // null for method nr
+  const distributed::GradientExchange& exchange() const { return exchange_; }
   // Holds the N-Module fixed: steps train the I-Module alone, on the radiance the N-Module has (the guide's
   // variance study on a converged radiance field). Step streams then follow the I-Module's step count.
   void hold_radiance(bool hold) { hold_radiance_ = hold; }
 
  private:
   void append_log(const std::string& line) const;
+  bool writes_run_dir() const { return exchange_.communicator().rank() == 0; }
+  // trainer_ranks.cpp: ranks other than 0 take rank 0's config and state; all check they still agree, every
+  // kRankCheckEvery steps (a checksum of the parameters: a few milliseconds against minutes of steps).
+  static constexpr long kRankCheckEvery = 200;
+  void share_rank0_state();
+  void check_ranks_agree(std::uint64_t step) const;
 
   cl::Context* ctx_;
   const geometry::Geometry* geometry_;
@@ -77,6 +87,7 @@ class Trainer {
   bool hold_radiance_ = false;
   cl::Buffer<float> point_radiance_;  // sg(L_α) at the points, where no forward computed it (held N-Module)
   double seconds_before_ = 0;         // training time of earlier sessions of a resumed run
+  distributed::GradientExchange exchange_;
 };
 
 // The default batch for a device: GPUs take the paper-sized batch, CPU devices a smaller one so a step stays

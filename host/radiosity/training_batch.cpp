@@ -22,14 +22,15 @@ void sample_training_points(const geometry::SurfaceSampler& sampler, const scene
   const std::size_t M = settings.points, R = nn::kRawInputs;
   batch.points = M;
   batch.samples = settings.samples;
+  batch.first_point = settings.first_point;
   batch.surface.resize(M);
   batch.wo.resize(M);
   batch.point_rows.resize(M * R);
   batch.frame_normals.resize(settings.guide ? M * 3 : 0);
-  sampler.sample(stream_id(seed, step, 0), batch.surface);
+  sampler.sample(stream_id(seed, step, 0), batch.surface, settings.first_point);
   parallel_for(M, 256, [&](std::size_t first, std::size_t last) {
     for (std::size_t m = first; m < last; ++m) {
-      Pcg32 rng(m, stream_id(seed, step, 1));
+      Pcg32 rng(settings.first_point + m, stream_id(seed, step, 1));
       const auto& x = batch.surface[m];
       // ω_o uniform over the directions the surface can scatter into: the whole sphere for two-sided BSDFs,
       // the hemisphere above the shading normal for one-sided ones (their black side is never queried).
@@ -63,7 +64,7 @@ void sample_incident(const geometry::Geometry& geometry, const BatchSettings& se
 
   parallel_for(M, 64, [&](std::size_t first, std::size_t last) {
     for (std::size_t m = first; m < last; ++m) {
-      Pcg32 rng(m, stream_id(seed, step, 3));
+      Pcg32 rng(batch.first_point + m, stream_id(seed, step, 3));
       const auto& x = batch.surface[m];
       const Vec3& wo = batch.wo[m];
       const scene::BsdfPoint bsdf = x.point.bsdf(scene);
@@ -119,11 +120,11 @@ void sample_incident(const geometry::Geometry& geometry, const BatchSettings& se
 }
 
 void guide_uniforms(std::size_t points, std::size_t samples, std::uint64_t seed, std::uint64_t step,
-                    std::vector<float>& u) {
+                    std::vector<float>& u, std::size_t first_point) {
   u.resize(points * samples * 3);
   parallel_for(points, 256, [&](std::size_t first, std::size_t last) {
     for (std::size_t m = first; m < last; ++m) {
-      Pcg32 rng(m, stream_id(seed, step, 2));
+      Pcg32 rng(first_point + m, stream_id(seed, step, 2));
       for (std::size_t i = 0; i < samples * 3; ++i) u[m * samples * 3 + i] = rng.next_float();
     }
   });

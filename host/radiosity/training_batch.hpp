@@ -16,6 +16,7 @@ namespace clr::radiosity {
 
 struct TrainingBatch {
   std::size_t points = 0, samples = 0;
+  std::size_t first_point = 0;                   // index of points[0] in the step's point sequence
   std::vector<geometry::SurfaceSample> surface;  // points: where L_α is trained …
   std::vector<Vec3> wo;                          // … and from which direction
   std::vector<float> point_rows;                 // points × kRawInputs
@@ -42,6 +43,9 @@ struct BatchSettings {
   // An I-Module learns from the batch (ISNR): directions and p_bsdf are kept for its loss and p̃ is formed on the
   // device, also while c = 1 (the guide's warm-up, when it learns from BSDF samples before any are drawn from it).
   bool guide = false;
+  // This process's points are [first_point, first_point + points) of the step's sequence: every stream is keyed
+  // by a point's index in it, so MPI ranks drawing their shares draw the one-process batch between them.
+  std::size_t first_point = 0;
 };
 
 // The first half: points, directions ω_o, their raw input rows (and frame normals with a guide).
@@ -57,6 +61,6 @@ void sample_incident(const geometry::Geometry& geometry, const BatchSettings& se
 
 // The three uniforms per sample that the device turns into guided directions (kernels/vmf.cl: vmf_sample).
 void guide_uniforms(std::size_t points, std::size_t samples, std::uint64_t seed, std::uint64_t step,
-                    std::vector<float>& u);
+                    std::vector<float>& u, std::size_t first_point = 0);
 
 }  // namespace clr::radiosity

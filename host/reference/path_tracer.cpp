@@ -1,5 +1,6 @@
 #include "reference/path_tracer.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -111,13 +112,18 @@ image::Image render(const geometry::Geometry& geometry, const RenderOptions& opt
   std::atomic<std::uint64_t> rays{0}, non_finite{0};
   std::atomic<int> rows_done{0};
   std::mutex progress_mutex;
+  const auto stride = std::size_t(std::max(1, options.row_stride)),
+             offset = std::size_t(std::max(0, options.row_offset));
+  const std::size_t rows =
+      offset < std::size_t(camera.height) ? (std::size_t(camera.height) - offset - 1) / stride + 1 : 0;
   std::optional<Progress> progress;
-  if (options.progress) progress.emplace("reference", double(camera.height));
+  if (options.progress) progress.emplace("reference", double(rows));
   const auto start = std::chrono::steady_clock::now();
 
-  parallel_for(std::size_t(camera.height), 1, [&](std::size_t y0, std::size_t y1) {
+  parallel_for(rows, 1, [&](std::size_t i0, std::size_t i1) {
     std::uint64_t local_rays = 0, local_bad = 0;
-    for (std::size_t y = y0; y < y1; ++y) {
+    for (std::size_t i = i0; i < i1; ++i) {
+      const std::size_t y = offset + i * stride;
       for (int x = 0; x < camera.width; ++x) {
         Pcg32 rng(y * std::size_t(camera.width) + std::size_t(x), options.seed);
         glm::dvec3 sum(0.0);
@@ -148,7 +154,7 @@ image::Image render(const geometry::Geometry& geometry, const RenderOptions& opt
   if (progress) progress->finish();
   if (stats) {
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    stats->paths = std::uint64_t(camera.width) * std::uint64_t(camera.height) * std::uint64_t(options.spp);
+    stats->paths = std::uint64_t(camera.width) * std::uint64_t(rows) * std::uint64_t(options.spp);
     stats->rays = rays;
     stats->non_finite = non_finite;
   }

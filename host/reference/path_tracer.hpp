@@ -19,11 +19,14 @@ struct RenderOptions {
   std::optional<int> max_depth;
   std::uint64_t seed = 0;
   bool progress = false;  // print progress on stderr
+  // Only rows y ≡ row_offset (mod row_stride) are rendered, the rest left 0: an MPI rank's share of the image.
+  // Interleaved rows give every rank a like mix of the image's costly and cheap parts.
+  int row_offset = 0, row_stride = 1;
 };
 
 struct RenderStats {
   double seconds = 0;
-  std::uint64_t paths = 0;
+  std::uint64_t paths = 0;       // of the rows rendered
   std::uint64_t rays = 0;        // closest-hit and shadow rays
   std::uint64_t non_finite = 0;  // samples dropped for being NaN or infinite
 };

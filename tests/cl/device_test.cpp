@@ -57,6 +57,17 @@ TEST_F(DeviceSpecTest, SubstringMatches) {
   EXPECT_EQ(select_device(devices, "a100").spec(), "1:1");
 }
 
+TEST_F(DeviceSpecTest, RanksTakeTheMatchingDevicesRoundRobin) {
+  // An MPI rank passes its local rank: the default rule's GPUs in turn, a substring's matches in turn, and a
+  // P:D spec pins every rank to one device.
+  EXPECT_EQ(select_device(devices, "", 0).spec(), "1:0");
+  EXPECT_EQ(select_device(devices, "", 1).spec(), "1:1");
+  EXPECT_EQ(select_device(devices, "", 2).spec(), "1:0");
+  EXPECT_EQ(select_device(devices, "nvidia", 3).spec(), "1:1");
+  EXPECT_EQ(select_device(devices, "cpu", 1).spec(), "0:0");
+  EXPECT_EQ(select_device(devices, "1:0", 1).spec(), "1:0");
+}
+
 TEST_F(DeviceSpecTest, EnvironmentIsTheDefaultAndFlagWins) {
   setenv("CLRADIOSITY_DEVICE", "a100", 1);
   EXPECT_EQ(select_device(devices, "").spec(), "1:1");

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# The CLI under `mpirun -np 2` (README "MPI"): a distributed reference is byte-identical to the single-process one;
+# bad input ends the job with exit 2 and one line naming it; a rank killed mid-run ends the whole job within
+# seconds, non-zero, leaving a valid checkpoint that resumes on another rank count.
+# Usage: mpi_cli_faults.sh CLRADIOSITY MPIRUN SCENES_DIR
+set -uo pipefail
+cli=$1 mpirun=$2 scenes=$3
+scene=$scenes/cornell-box.xml
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+two() { "$mpirun" -n 2 "$cli" "$@"; }
+
+echo "== distributed reference equals the single-process image"
+"$cli" reference "$scene" --spp 4 --width 40 --height 31 --seed 5 -o "$work/one.exr" >/dev/null 2>&1 ||
+  fail "single-process reference"
+two reference "$scene" --spp 4 --width 40 --height 31 --seed 5 -o "$work/two.exr" >/dev/null 2>&1 ||
+  fail "2-rank reference"
+cmp "$work/one.exr" "$work/two.exr" || fail "the 2-rank image differs from the 1-rank one"
+
+echo "== bad input ends the job with exit 2 and names the culprit"
+start=$SECONDS
+two train "$work/missing.xml" --steps 5 -o "$work/bad" >"$work/bad.out" 2>&1
+rc=$?
+[ "$rc" -eq 2 ] || fail "exit $rc for a missing scene, want 2"
+grep -q "clradiosity: error: rank [01]: .*missing.xml" "$work/bad.out" || fail "no error line naming the scene"
+[ $((SECONDS - start)) -lt 30 ] || fail "bad input took $((SECONDS - start)) s to end the job"
+
+echo "== a rank killed mid-run ends the job within seconds; the checkpoint resumes on one rank"
+cat >"$work/small.json" <<'EOF'
+{"log_every": 2, "checkpoint_every": 4, "batch": 256,
+ "network": {"width": 64, "hidden_layers": 2,
+             "encoder": {"grid": {"levels": 6, "log2_table": 14, "base_resolution": 4}}}}
+EOF
+"$mpirun" -n 2 "$cli" train "$scene" --config "$work/small.json" --steps 1000000 -o "$work/run" >"$work/run.out" 2>&1 &
+job=$!
+for _ in $(seq 600); do
+  [ "$(cat "$work/run/log.csv" 2>/dev/null | grep -c .)" -ge 4 ] && break
+  kill -0 $job 2>/dev/null || fail "the 2-rank training ended early: $(tail -3 "$work/run.out")"
+  sleep 0.1
+done
+[ -f "$work/run/model.clr" ] || fail "no checkpoint after 60 s: $(tail -3 "$work/run.out")"
+victim=""
+for pid in $(pgrep -P $job); do
+  tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=1" && victim=$pid
+done
+[ -n "$victim" ] || { kill $job; fail "rank 1 not found among mpirun's children"; }
+kill -9 "$victim"
+start=$SECONDS
+for _ in $(seq 300); do kill -0 $job 2>/dev/null || break; sleep 0.1; done
+if kill -0 $job 2>/dev/null; then
+  kill -9 $job
+  fail "the job still runs 30 s after rank 1 died"
+fi
+wait $job
+rc=$?
+echo "job ended $((SECONDS - start)) s after rank 1 was killed, exit $rc"
+[ "$rc" -ne 0 ] || fail "exit 0 after a rank died"
+steps=$(tail -1 "$work/run/log.csv" | cut -d, -f1)
+"$cli" train "$scene" --resume --steps $((steps + 6)) -o "$work/run" >"$work/resume.out" 2>&1 ||
+  fail "resume on one rank: $(tail -2 "$work/resume.out")"
+grep -q "^$((steps + 6))," "$work/run/log.csv" || fail "the resumed run logged no step $((steps + 6))"
+echo "PASS"
