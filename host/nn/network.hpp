@@ -37,7 +37,7 @@ struct NetworkConfig {
 
 // ISNR §4.3: N-Module = hash grid + SH(ω_o) + SH(n) + albedo → 4 × 512 ReLU → 3, abs (non-negative radiance).
 NetworkConfig n_module_config(const std::array<float, 3>& bbox_lo, const std::array<float, 3>& bbox_hi);
-// I-Module = hash grid (8 levels, 2^16) + SH(ω_o) + SH(n) + roughness → 3 × 64 ReLU → 32 raw outputs (8 vMF lobes).
+// I-Module = hash grid (4 levels, 2^16) + SH(ω_o) + SH(n) + roughness → 3 × 64 ReLU → 32 raw outputs (8 vMF lobes).
 NetworkConfig i_module_config(const std::array<float, 3>& bbox_lo, const std::array<float, 3>& bbox_hi);
 
 nlohmann::json to_json(const NetworkConfig& c);
