@@ -396,7 +396,7 @@ TEST_F(ClTest, GuideKlAndIklGradientsMatchFiniteDifferences) {
   for (int i = 0; i < 3 * rows; ++i) g.radiance.push_back(2 * u(rng));
   for (std::size_t i = 0; i < 3 * g.points; ++i) g.scattered.push_back(0.1f + u(rng));
   // The last point's N-Module radiance far below what its samples saw: F is their estimate over N there.
-  std::fill(g.scattered.end() - 3, g.scattered.end(), 1e-4f);
+  std::fill(g.scattered.end() - 3, g.scattered.end(), 1e-6f);
 
   for (const bool improved : {false, true}) {
     const GuideResult got = run_guide_loss(ctx(), raw, g, improved, normals);

@@ -14,6 +14,7 @@ namespace clr::test::vmf {
 inline constexpr int kLobes = 8, kRaw = 32;
 inline constexpr double kLogKappaMin = -9.2103403719761836, kLogKappaMax = 9.2103403719761836;  // κ ∈ [1e-4, 1e4]
 // The offsets on the raw b and c: raw 0 is a lobe of κ = 3 at θ = 36° (σ(c₀) = 0.2) from the frame's normal.
+inline constexpr double kMaxWeight = 1024;
 inline constexpr double kLogKappa0 = 1.0986122886681098, kC0 = -1.3862943611198906;
 
 using dvec3 = glm::dvec3;
@@ -82,12 +83,13 @@ struct GuideSample {
 };
 
 // (1/N) Σ p/p̃ · log(p/q) (KL) or its absolute value (IKL), p = t/F with F the N-Module's radiance at the point
-// (bounded below by the samples' own estimate over N), p and p̃ constants: its gradient w.r.t. raw is guide_loss's.
+// (bounded below by the samples' own estimate over kMaxWeight, guide.cl's GUIDE_MAX_WEIGHT), p and p̃ constants: its
+// gradient w.r.t. raw is guide_loss's.
 inline double guide_loss(std::span<const double> raw, std::span<const GuideSample> s, double f_net, std::size_t n_total,
                          bool improved, const dvec3& n = kUp) {
   double f_samples = 0;
   for (const auto& x : s) f_samples += x.target / x.pdf;
-  const double F = std::max(f_net, f_samples / double(n_total * n_total));
+  const double F = std::max(f_net, f_samples / (double(n_total) * kMaxWeight));
   if (!(F > 0)) return 0;
   double loss = 0;
   for (const auto& x : s) {
