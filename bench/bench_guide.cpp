@@ -61,6 +61,7 @@ void print_stages(cl::Context& ctx, const nn::NetworkConfig& guide_config, std::
          vmf.loss({dirs, bsdf_pdf, pdf, weight, emitted, lookup, radiance, scattered}, N, true, d_raw);
        }},
       {"backward", [&] { guide.backward(fwd, d_raw); }},
+      {"  of which MLP (no dX)", [&] { guide.mlp().backward(fwd.mlp, d_raw, nullptr, 0); }},
       {"Adam", [&] { guide.adam_step(); }},
   };
   double total = 0;

@@ -30,9 +30,8 @@ __kernel void guide_loss(uint points, uint samples, __global const float* lobes,
                          __global float* d_raw, volatile __global float* total, volatile __global uint* non_finite) {
   const size_t m = get_global_id(0);
   if (m >= points) return;
-  __global const float* lp = lobes + m * VMF_LOBES * VMF_LOBE_FLOATS;
-  float grad[VMF_RAW];
-  for (int i = 0; i < VMF_RAW; ++i) grad[i] = 0.0f;
+  __global const float* lp = vmf_point_lobes(lobes, m);
+  float8 ga = 0.0f, gb = 0.0f, gc = 0.0f, gd = 0.0f;  // the gradient of the lobes' raw a, b, c, d
 
   // F_s = (1/N) Σ t/p̃, the samples' own estimate of F, bounds F from below at F_s/GUIDE_MAX_WEIGHT: then a point's
   // weights Σ p/p̃/N = F_s/F stay ≤ GUIDE_MAX_WEIGHT where the N-Module underestimates F badly (untrained, or
@@ -61,17 +60,20 @@ __kernel void guide_loss(uint points, uint samples, __global const float* lobes,
         ++bad;
         continue;
       }
-      float dlogq[VMF_RAW];
-      const float log_ratio = log(p) - vmf_dlogq_at(lp, vload3(s, dirs), dlogq);
-      const float sign = improved && !(log_ratio > 0.0f) ? -1.0f : 1.0f;
-      for (int i = 0; i < VMF_RAW; ++i) grad[i] -= scale * w * sign * dlogq[i];
+      float8 da, db, dc, dd;
+      const float log_ratio = log(p) - vmf_dlogq_at(lp, vload3(s, dirs), &da, &db, &dc, &dd);
+      const float g = -scale * w * (improved && !(log_ratio > 0.0f) ? -1.0f : 1.0f);
+      ga += g * da;
+      gb += g * db;
+      gc += g * dc;
+      gd += g * dd;
       loss += w * (improved ? fabs(log_ratio) : log_ratio);
     }
   }
-  bool finite = isfinite(loss);
-  for (int i = 0; i < VMF_RAW; ++i) finite = finite && isfinite(grad[i]);
+  const bool finite = isfinite(loss) && all(isfinite(ga) && isfinite(gb) && isfinite(gc) && isfinite(gd));
   if (!finite) ++bad;
-  for (int i = 0; i < VMF_RAW; ++i) d_raw[m * VMF_RAW + i] = finite ? grad[i] : 0.0f;
+  if (!finite) ga = gb = gc = gd = 0.0f;
+  vmf_store_raw(ga, gb, gc, gd, d_raw + m * VMF_RAW);
   if (bad) atomic_add(non_finite, bad);
   if (finite && loss != 0.0f) atomic_add_f32(total, scale * loss);
 }

@@ -5,7 +5,7 @@
 namespace clr::nn {
 
 namespace {
-constexpr std::size_t kLobeFloats = 16;  // VMF_LOBE_FLOATS
+constexpr std::size_t kLobeFields = 14;  // VMF_LOBE_FIELDS
 }
 
 VmfMixture::VmfMixture(cl::Context& ctx)
@@ -22,8 +22,8 @@ VmfMixture::VmfMixture(cl::Context& ctx)
 }
 
 void VmfMixture::decode(const cl::Buffer<float>& raw, const cl::Buffer<float>& normals, std::size_t points) {
-  if (lobes_.size() < points * kVmfLobes * kLobeFloats)
-    lobes_ = cl::Buffer<float>(*ctx_, points * kVmfLobes * kLobeFloats);
+  if (lobes_.size() < points * kVmfLobes * kLobeFields)
+    lobes_ = cl::Buffer<float>(*ctx_, points * kVmfLobes * kLobeFields);
   points_ = points;
   decode_.args(raw, normals, u32(points), lobes_).launch(points);
 }

@@ -61,7 +61,7 @@ class VmfMixture {
  private:
   cl::Context* ctx_;
   std::size_t points_ = 0;
-  cl::Buffer<float> lobes_;  // [points × kVmfLobes × 16], kernels/vmf.cl's VMF_LOBE_FLOATS
+  cl::Buffer<float> lobes_;  // [points × 14 fields × kVmfLobes], kernels/vmf.cl
   cl::Buffer<float> total_;
   cl::Buffer<std::uint32_t> non_finite_;
   cl::Kernel decode_, sample_, pdf_, dlogq_, loss_;
