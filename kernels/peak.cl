@@ -5,10 +5,16 @@
 #ifndef VW
 #define VW 16
 #endif
+#ifndef CHAINS
 #define CHAINS 12
+#endif
 #define CAT_(a, b) a##b
 #define CAT(a, b) CAT_(a, b)
+#if VW == 1
+#define floatV float
+#else
 #define floatV CAT(float, VW)
+#endif
 
 __kernel void fma_peak(uint iterations, float a, float b, __global float* out) {
   floatV x[CHAINS];
@@ -22,9 +28,13 @@ __kernel void fma_peak(uint iterations, float a, float b, __global float* out) {
   floatV s = x[0];
 #pragma unroll
   for (int c = 1; c < CHAINS; ++c) s += x[c];
+#if VW == 1
+  out[get_global_id(0)] = s;
+#else
   float t[VW];
   CAT(vstore, VW)(s, 0, t);
   float r = 0.0f;
   for (int l = 0; l < VW; ++l) r += t[l];
   out[get_global_id(0)] = r;
+#endif
 }
