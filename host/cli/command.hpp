@@ -23,7 +23,8 @@ Command add_render_command(CLI::App& app);
 Command add_residual_command(CLI::App& app);
 Command add_guide_command(CLI::App& app);
 
-// `clradiosity` without arguments: train and render the bundled Cornell box (README's first command).
-int run_main_job(double minutes);
+// `clradiosity` without a subcommand: train and render the bundled Cornell box (README's first command) for
+// `minutes`, or with a preset's settings and budget.
+int run_main_job(double minutes, const std::string& preset);
 
 }  // namespace clr::cli

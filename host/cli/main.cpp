@@ -35,6 +35,9 @@ int run(int argc, char** argv) {
   CLI::App app{"clradiosity: Importance-Sampling-Guided Neural Radiosity on OpenCL devices", "clradiosity"};
   app.set_version_flag("--version", std::string("clradiosity ") + CLR_VERSION);
   app.require_subcommand(0, 1);
+  std::string preset;
+  app.add_option("--preset", preset, "The main job (no subcommand) with a budget preset: preview, balanced, quality")
+      ->check(CLI::IsMember({"preview", "balanced", "quality"}));
 
   const std::vector<clr::cli::Command> commands = {
       clr::cli::add_devices_command(app), clr::cli::add_compare_command(app), clr::cli::add_reference_command(app),
@@ -47,10 +50,12 @@ int run(int argc, char** argv) {
     app.parse(argc, argv);
     for (const auto& c : commands)
       if (c.app->parsed()) {
+        if (!preset.empty())
+          throw clr::InputError("--preset before '" + c.app->get_name() + "' belongs to the main job; put it after it");
         command = c.app->get_name();
         return c.run();
       }
-    return clr::cli::run_main_job(kMainJobMinutes);
+    return clr::cli::run_main_job(kMainJobMinutes, preset);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {

@@ -1,6 +1,6 @@
 // `clradiosity` without arguments: the bundled Cornell box end to end on the default device. Trains for a short
-// fixed budget, renders at the scene's 128×128, renders a path-traced reference (cached beside the run), and
-// prints where the images are and the MAPE between them.
+// fixed budget (or a preset's), renders at the scene's 128×128, renders a path-traced reference (cached beside the
+// run), and prints where the images are and the MAPE between them.
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -9,6 +9,7 @@
 #include "cli/command.hpp"
 #include "geometry/geometry.hpp"
 #include "image/image.hpp"
+#include "radiosity/preset.hpp"
 #include "radiosity/trained_model.hpp"
 #include "radiosity/trainer.hpp"
 #include "reference/path_tracer.hpp"
@@ -17,19 +18,26 @@
 namespace clr::cli {
 namespace fs = std::filesystem;
 
-int run_main_job(double minutes) {
+int run_main_job(double minutes, const std::string& preset) {
   const fs::path scene_path = fs::path(CLR_SCENES_DIR) / "cornell-box.xml";
   const fs::path out = fs::absolute("clradiosity-out");
   const fs::path run = out / "cornell-box-run";
   const auto scene = scene::load_scene(scene_path);
   const geometry::Geometry geometry(scene);
   cl::Context ctx(cl::select_device(""));
-  std::cerr << "clradiosity: training " << scene_path.string() << " for " << minutes << " min on "
+  radiosity::TrainConfig config;
+  if (preset.empty()) {
+    config.minutes = minutes;
+  } else {
+    const geometry::SurfaceSampler sampler(scene);
+    for (const auto& line :
+         radiosity::apply_preset(preset, config, radiosity::scene_inputs(geometry, sampler), ctx.device()))
+      std::cerr << "preset " << preset << ": " << line << "\n";
+  }
+  std::cerr << "clradiosity: training " << scene_path.string() << " for " << config.minutes << " min on "
             << ctx.device().describe() << "\n";
 
   fs::remove_all(run);
-  radiosity::TrainConfig config;
-  config.minutes = minutes;
   radiosity::Trainer trainer(ctx, geometry, config, run, false);
   trainer.run();
 

@@ -1,5 +1,6 @@
 // clradiosity train SCENE.xml [--method isnr|nr] [--is-loss ikl|kl] [--bsdf-fraction C] [--samples N] [--batch M]
-//                  [--steps S | --minutes T] [--seed K] [--config FILE.json] [--resume] -o RUN_DIR
+//                  [--steps S | --minutes T] [--preset preview|balanced|quality] [--seed K] [--config FILE.json]
+//                  [--resume] -o RUN_DIR
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -11,6 +12,7 @@
 #include "common/run_lock.hpp"
 #include "distributed/communicator.hpp"
 #include "geometry/geometry.hpp"
+#include "radiosity/preset.hpp"
 #include "radiosity/trainer.hpp"
 #include "scene/scene.hpp"
 
@@ -33,7 +35,7 @@ void print_exchange(const distributed::ExchangeStats& s, std::uint64_t steps) {
 
 Command add_train_command(CLI::App& app) {
   struct Options {
-    std::string scene, run_dir, config_file, device, method, is_loss, residual, gemm;
+    std::string scene, run_dir, config_file, device, method, is_loss, residual, gemm, preset;
     int samples = 0, batch = 0;
     long steps = 0;
     double minutes = 0, learning_rate = 0, bsdf_fraction = 0, guide_learning_rate = 0;
@@ -73,28 +75,38 @@ Command add_train_command(CLI::App& app) {
   cmd->add_option("--gemm", opt->gemm, "Matrix-product backend: auto (timed probe, cached), own, clblast")
       ->check(CLI::IsMember({"auto", "own", "clblast"}));
   cmd->add_option("--config", opt->config_file, "Training settings (JSON); flags override it");
-  cmd->add_flag("--resume", opt->resume, "Continue the run in RUN_DIR from its checkpoint");
+  auto* resume = cmd->add_flag("--resume", opt->resume, "Continue the run in RUN_DIR from its checkpoint");
+  cmd->add_option("--preset", opt->preset,
+                  "preview, balanced or quality: batch, N, width and hash-table size picked for that budget, this "
+                  "scene and device (printed, stored in config.json); flags override it")
+      ->check(CLI::IsMember({"preview", "balanced", "quality"}))
+      ->excludes(resume);
   add_device_option(*cmd, opt->device);
 
   return {cmd, [opt, cmd]() {
             radiosity::TrainConfig config;
             if (!opt->config_file.empty()) config = radiosity::load_train_config(opt->config_file);
-            if (!opt->method.empty()) config.method = opt->method;
-            if (!opt->residual.empty()) config.residual = opt->residual;
-            if (!opt->is_loss.empty()) config.is_loss = opt->is_loss;
-            // Flags given on the command line override the config file, whatever their value (validate() judges).
+            // Flags given on the command line override the config file and the preset, whatever their value
+            // (validate() judges); they are applied before the scene loads, to fail fast, and again over a preset.
             const auto given = [&](const char* flag) { return cmd->count(flag) > 0; };
-            if (given("--samples")) config.samples = opt->samples;
-            if (given("--batch")) config.batch = opt->batch;
-            if (given("--steps")) config.steps = opt->steps;
-            if (given("--minutes")) config.minutes = opt->minutes;
-            if (given("--seed")) config.seed = opt->seed;
-            if (given("--learning-rate")) config.network["adam"]["learning_rate"] = opt->learning_rate;
-            if (given("--bsdf-fraction")) config.bsdf_fraction = opt->bsdf_fraction;
-            if (given("--guide-learning-rate")) config.guide["adam"]["learning_rate"] = opt->guide_learning_rate;
-            if (!opt->gemm.empty()) config.network["gemm"] = opt->gemm;
-            config.validate();
-            if (config.steps == 0 && config.minutes == 0) throw InputError("give a budget: --steps S or --minutes T");
+            const auto apply_flags = [&] {
+              if (!opt->method.empty()) config.method = opt->method;
+              if (!opt->residual.empty()) config.residual = opt->residual;
+              if (!opt->is_loss.empty()) config.is_loss = opt->is_loss;
+              if (given("--samples")) config.samples = opt->samples;
+              if (given("--batch")) config.batch = opt->batch;
+              if (given("--steps")) config.steps = opt->steps;
+              if (given("--minutes")) config.minutes = opt->minutes;
+              if (given("--seed")) config.seed = opt->seed;
+              if (given("--learning-rate")) config.network["adam"]["learning_rate"] = opt->learning_rate;
+              if (given("--bsdf-fraction")) config.bsdf_fraction = opt->bsdf_fraction;
+              if (given("--guide-learning-rate")) config.guide["adam"]["learning_rate"] = opt->guide_learning_rate;
+              if (!opt->gemm.empty()) config.network["gemm"] = opt->gemm;
+              config.validate();
+            };
+            apply_flags();
+            if (config.steps == 0 && config.minutes == 0 && opt->preset.empty())
+              throw InputError("give a budget: --steps S or --minutes T (or a --preset)");
 
             const auto scene = scene::load_scene(opt->scene);
             scene::require_emitter(scene, opt->scene);
@@ -102,6 +114,14 @@ Command add_train_command(CLI::App& app) {
             // Under mpirun each rank takes the next of the matching devices on its machine; rank 0 alone writes.
             const auto& ranks = distributed::Communicator::world();
             cl::Context ctx(cl::select_device(opt->device, unsigned(ranks.local_rank())));
+            if (!opt->preset.empty()) {
+              const geometry::SurfaceSampler sampler(scene);
+              const auto why = radiosity::apply_preset(opt->preset, config, radiosity::scene_inputs(geometry, sampler),
+                                                       ctx.device());
+              if (ranks.rank() == 0)
+                for (const auto& line : why) std::cerr << "preset " << opt->preset << ": " << line << "\n";
+              apply_flags();
+            }
             std::optional<RunLock> lock;  // held until the run ends: one writer per RUN_DIR
             if (ranks.rank() == 0) lock.emplace(opt->run_dir, !opt->resume);
             radiosity::Trainer trainer(ctx, geometry, config, opt->run_dir, opt->resume, ranks);

@@ -44,6 +44,8 @@ void TrainConfig::validate() const {
   require(batch >= 0 && batch <= (1 << 22), "batch", batch, "in [1, 4194304] (0 = automatic)");
   require(std::max(batch, 1) * static_cast<long long>(samples) <= kMaxIncidentSamples, "batch × samples",
           std::max(batch, 1) * static_cast<long long>(samples), "at most 2^24 incident samples per step");
+  require(preset.empty() || preset == "preview" || preset == "balanced" || preset == "quality", "preset", preset,
+          "preview, balanced or quality");
   require(steps >= 0, "steps", steps, ">= 0");
   require(minutes >= 0 && std::isfinite(minutes), "minutes", minutes, ">= 0");
   require(anneal_start >= 0 && anneal_start <= 1, "anneal_start", anneal_start, "in [0, 1]");

@@ -25,6 +25,9 @@ struct TrainConfig {
   long steps = 0;                     // stop after this many steps in total (0 = no step limit)
   double minutes = 0;                 // stop after this much wall time in this session (0 = no time limit)
   std::uint64_t seed = 1;
+  // The budget preset the run was set up with ("" for none; radiosity/preset.hpp): its choices are already in
+  // the settings here, the name records where they came from.
+  std::string preset;
   // Learning-rate annealing over the run's budget (--steps, else this session's --minutes): the rate holds until
   // the fraction `anneal_start` of the budget is spent, then falls geometrically to `anneal_final` × itself at the
   // end. A noisy Monte Carlo target needs it: at a constant rate the fit keeps the noise of the last steps.
@@ -61,8 +64,9 @@ struct TrainConfig {
 };
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, is_loss, bsdf_fraction, guide_warmup, residual,
-                                                samples, batch, steps, minutes, seed, anneal_start, anneal_final,
-                                                relative_fade_end, log_every, checkpoint_every, network, guide)
+                                                samples, batch, steps, minutes, seed, preset, anneal_start,
+                                                anneal_final, relative_fade_end, log_every, checkpoint_every, network,
+                                                guide)
 
 // Applies the keys of `j` over `base`. An unknown key or a value of the wrong type is an InputError naming the
 // key (a misspelt key must not be silently ignored); the result is validated.

@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <set>
 #include <sstream>
 
 #include "cl/buffer.hpp"
@@ -16,6 +15,7 @@
 #include "distributed/share.hpp"
 #include "nn/checkpoint.hpp"
 #include "radiosity/radiance_scale.hpp"
+#include "radiosity/scene_inputs.hpp"
 #include "radiosity/trained_model.hpp"
 
 namespace clr::radiosity {
@@ -29,36 +29,6 @@ std::string read_text(const fs::path& path) {
   std::ifstream in(path);
   if (!in) throw InputError("cannot read " + path.string());
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-// What the networks' inputs need to know of a scene: the box the hash grids cover, and whether albedo and
-// roughness vary over the modelled surfaces (an input that is the same everywhere carries nothing).
-struct SceneInputs {
-  std::array<float, 3> lo, hi;
-  bool albedo_varies, roughness_varies;
-};
-
-SceneInputs scene_inputs(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler) {
-  // The hash grid covers the bounding box of the modelled surfaces, padded a little so points on its faces
-  // are interior to the grid.
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  std::set<std::array<float, 3>> albedos;
-  std::set<float> roughness;
-  for (const auto& s : sampler.sample(0x5eed, 4096)) {
-    lo = glm::min(lo, s.point.position);
-    hi = glm::max(hi, s.point.position);
-    albedos.insert({s.albedo.x, s.albedo.y, s.albedo.z});
-    roughness.insert(s.roughness);
-  }
-  for (const auto& shape : geometry.scene().shapes)
-    for (const auto& v : shape.mesh.positions) {
-      lo = glm::min(lo, v);
-      hi = glm::max(hi, v);
-    }
-  const glm::vec3 pad = 1e-3f * (hi - lo) + 1e-6f;
-  lo -= pad;
-  hi += pad;
-  return {{lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z}, albedos.size() > 1, roughness.size() > 1};
 }
 
 nn::NetworkConfig patched(const nn::NetworkConfig& base, const nlohmann::json& patch) {

@@ -9,6 +9,8 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <thread>
 
 #include "cl/device.hpp"
@@ -80,6 +82,35 @@ TEST_F(TrainCli, InterruptWritesACheckpointAndExitsCleanly) {
 
 // An ISNR run as a user meets it: the I-Module's view of a pixel, the residual under guided sampling, and the
 // errors of asking an NR run for its guide or giving impossible ISNR settings.
+TEST_F(TrainCli, EachPresetRunsAndRecordsItsChoice) {
+  std::map<std::string, nlohmann::json> saved;
+  for (const std::string preset : {"preview", "balanced", "quality"}) {
+    const fs::path run = dir / preset;
+    // --batch beside the preset: flags override its choices (and keep the test fast).
+    const auto r = run_cli("train " + kBox + " --preset " + preset + " --steps 2 --batch 64 -o " + run.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.err, HasSubstr("preset " + preset + ": batch"));
+    EXPECT_THAT(r.err, HasSubstr("hash table 2^"));
+    std::ifstream in(run / "config.json");
+    saved[preset] = nlohmann::json::parse(in);
+    EXPECT_EQ(saved[preset]["preset"], preset);
+    EXPECT_EQ(saved[preset]["batch"], 64);
+    EXPECT_EQ(saved[preset]["steps"], 2);
+  }
+  EXPECT_LT(saved["preview"]["network"]["width"], saved["balanced"]["network"]["width"]);
+  const std::pair<std::string, std::string> cases[] = {
+      {"train " + kBox + " --preset fast --steps 1 -o " + (dir / "x").string(), "--preset"},
+      {"train " + kBox + " --preset preview --resume -o " + (dir / "preview").string(), "--resume"},
+      {"--preset preview train " + kBox + " --steps 1 -o " + (dir / "x").string(), "--preset"},
+  };
+  for (const auto& [args, culprit] : cases) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_THAT(r.err, HasSubstr(culprit)) << args;
+  }
+  EXPECT_FALSE(fs::exists(dir / "x"));
+}
+
 TEST_F(TrainCli, IsnrRunShowsItsGuide) {
   const std::string run = (dir / "isnr").string(), nr = (dir / "nr").string();
   auto r = run_cli("train " + kBox + " --steps 10 --config " + config + " -o " + run);

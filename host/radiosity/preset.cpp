@@ -1,0 +1,82 @@
+#include "radiosity/preset.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "common/error.hpp"
+#include "nn/hashgrid.hpp"
+#include "nn/network.hpp"
+#include "radiosity/trainer.hpp"
+
+namespace clr::radiosity {
+namespace {
+
+struct Preset {
+  const char* name;
+  double minutes;  // the budget when none is given
+  std::size_t cpu_width, gpu_width;
+  int samples;
+  std::size_t log2_table;  // at most; smaller where the scene's surfaces need fewer entries
+  const char* why;         // the measurement behind the width and N
+};
+
+// README "Presets" holds the measurements these rows cite.
+constexpr Preset kPresets[] = {
+    {"preview", 1.0, 128, 256, 4, 18,
+     "width 128 on CPUs: at a minute's budget the error is Monte Carlo noise that more steps average down, and "
+     "width 128 takes about 1.5x the steps of 256"},
+    {"balanced", 2.0, 256, 512, 4, 18,
+     "the defaults: width 256 on CPUs beat 512 at 2-10 minute budgets (more steps), the paper's 512 on GPUs"},
+    {"quality", 10.0, 256, 512, 4, 18, "width 256 on CPUs still beat 512 at 10 minutes; N = 4 as the paper"},
+};
+
+// Hash-table entries the modelled surfaces occupy at the grid's finest level: a surface crosses about
+// 2·area/cell² vertices there (two layers about a plane), with the area in units of the box the grid spans.
+double surface_vertices(const SceneInputs& scene, const nn::HashGridConfig& grid) {
+  const double ex = scene.hi[0] - scene.lo[0], ey = scene.hi[1] - scene.lo[1], ez = scene.hi[2] - scene.lo[2];
+  const double unit_area = scene.area / std::cbrt(ex * ex * ey * ey * ez * ez);
+  const double finest = nn::hashgrid_levels(grid).back().resolution;
+  return 2.0 * unit_area * finest * finest;
+}
+
+}  // namespace
+
+std::vector<std::string> apply_preset(const std::string& name, TrainConfig& config, const SceneInputs& scene,
+                                      const cl::DeviceInfo& device) {
+  const auto* p =
+      std::find_if(std::begin(kPresets), std::end(kPresets), [&](const Preset& r) { return name == r.name; });
+  if (p == std::end(kPresets)) throw InputError("unknown preset '" + name + "' (preview, balanced or quality)");
+  std::vector<std::string> why;
+  char line[512];
+  config.preset = name;
+  if (config.steps == 0 && config.minutes == 0) {
+    config.minutes = p->minutes;
+    std::snprintf(line, sizeof line, "budget %g min (no --steps or --minutes given)", p->minutes);
+    why.emplace_back(line);
+  }
+  const bool gpu = device.type == "gpu";
+  config.batch = default_batch(device);
+  config.samples = p->samples;
+  const std::size_t width = gpu ? p->gpu_width : p->cpu_width;
+  config.network["width"] = width;
+  std::snprintf(line, sizeof line, "batch %d x N %d, N-Module width %zu on a %s: %s", config.batch, config.samples,
+                width, gpu ? "GPU" : "CPU", p->why);
+  why.emplace_back(line);
+
+  // The table: the preset's size, or the power of two that holds every surface vertex of the finest level when
+  // that is smaller (small scenes); a table larger than what the surfaces touch only costs memory.
+  const nn::HashGridConfig grid = *nn::n_module_config(scene.lo, scene.hi).encoder.grid;
+  const double need = surface_vertices(scene, grid);
+  const auto log2_table =
+      std::clamp<std::size_t>(std::size_t(std::ceil(std::log2(std::max(need, 1.0)))), 10, p->log2_table);
+  config.network["encoder"]["grid"]["log2_table"] = log2_table;
+  std::snprintf(line, sizeof line,
+                "hash table 2^%zu entries a level: the surfaces cross ~%.3g vertices at the finest level; 2^16 was "
+                "worse and 2^20 no better than 2^18 at equal steps",
+                log2_table, need);
+  why.emplace_back(line);
+  return why;
+}
+
+}  // namespace clr::radiosity
