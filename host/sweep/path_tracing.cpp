@@ -94,15 +94,19 @@ void extend_path_tracing(const geometry::Geometry& geometry, const image::Image&
       return r.kind == "path_tracing" && r.point == "budget" && r.budget_minutes == minutes;
     });
     if (done) continue;
+    // Passes until the render is within 5 % of the budget: the first rate, from one sample per pixel, includes the
+    // render's fixed costs (threads, scheduling), so a pass sized by it alone falls short. A budget the chain has
+    // already passed (the timing pass alone took longer) takes the image as it is, at its measured time.
+    const double budget_s = minutes * 60.0;
+    for (int refinement = 0; refinement < 8 && seconds < 0.95 * budget_s && !stop_requested(); ++refinement)
+      pass(int(std::clamp(std::round((budget_s - seconds) / rate()), 1.0, double(1 << 24))));
     if (stop_requested()) return;
-    // A budget the chain has already passed (the timing pass alone took longer) takes the image as it is, at its
-    // measured time.
-    const double left = minutes * 60.0 - seconds;
-    if (left > 0) pass(int(std::clamp(std::round(left / rate()), 1.0, double(1 << 24))));
     add_point("budget", minutes);
   }
-  while (!stop_requested() && seconds < plan.cap_seconds && chain_points(rows).back()->mape > plan.target_mape) {
-    pass(int(std::clamp(std::round((plan.cap_seconds - seconds) / rate()), 1.0, double(spp))));
+  // Doubling towards the best model's error, never starting a pass expected to end past the cap.
+  while (!stop_requested() && chain_points(rows).back()->mape > plan.target_mape &&
+         seconds + rate() * double(spp) <= plan.cap_seconds) {
+    pass(spp);
     add_point("progress", kNone);
   }
 }

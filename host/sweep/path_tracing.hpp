@@ -2,9 +2,9 @@
 // The path tracer's row of a sweep: one progressive render of the reference path tracer, extended pass by pass,
 // each pass with its own seed so that the passes are independent and their spp-weighted mean is the image of all
 // their samples. Its points: one at each time budget (the spp of the pass that ends there chosen from the rate
-// measured so far, the time measured), then passes that double the samples until the image's MAPE reaches the
-// best trained model's, or a time cap. Every point is a row of results.csv and an EXR under
-// SWEEP_DIR/path_tracing, from which a rerun continues.
+// measured so far, refined by further passes until within 5 % of it; the time measured), then passes that
+// double the samples until the image's MAPE reaches the best trained model's, or the next would pass a time cap. Every
+// point is a row of results.csv and an EXR under SWEEP_DIR/path_tracing, from which a rerun continues.
 #include <filesystem>
 #include <functional>
 #include <vector>
@@ -20,7 +20,7 @@ struct PathTracingPlan {
   reference::RenderOptions render;      // size and max depth; spp and seed are the chain's
   std::vector<double> budgets_minutes;  // equal-time points
   double target_mape = 0;               // doubling stops at or below it ...
-  double cap_seconds = 0;               // ... or once this much rendering time is spent
+  double cap_seconds = 0;               // ... or before a pass expected to end past this much rendering time
 };
 
 // Adds the path tracer's missing points to `rows`, calling `save` after each, until the plan is met or a stop is
