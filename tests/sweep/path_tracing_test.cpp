@@ -1,5 +1,5 @@
 // The path tracer's progressive row on the bundled Cornell box at 16×16: points at the budgets, doubling towards a
-// model's error until the cap, and a second call that continues the same render.
+// model's error until the cap, and a second call that continues the same render. About 2 s.
 #include "sweep/path_tracing.hpp"
 
 #include <gtest/gtest.h>
@@ -28,9 +28,9 @@ TEST(SweepPathTracing, BudgetsThenDoublingToTheCapAndAContinuation) {
 
   sweep::PathTracingPlan plan;
   plan.render.width = plan.render.height = 16;
-  plan.budgets_minutes = {0.002, 0.001};  // 0.06 and 0.12 s
-  plan.target_mape = 0;                   // no image reaches it: the cap ends the doubling
-  plan.cap_seconds = 0.4;
+  plan.budgets_minutes = {0.005, 0.0025};  // 0.3 and 0.15 s
+  plan.target_mape = 0;                    // no image reaches it: the cap ends the doubling
+  plan.cap_seconds = 1.0;
   std::vector<sweep::Row> rows;
   int saves = 0;
   sweep::extend_path_tracing(geometry, reference, dir, plan, rows, [&] { ++saves; });
@@ -41,16 +41,18 @@ TEST(SweepPathTracing, BudgetsThenDoublingToTheCapAndAContinuation) {
   for (const auto& r : rows)
     if (r.point == "budget") budgets.push_back(&r);
   ASSERT_EQ(budgets.size(), 2u);
-  EXPECT_EQ(budgets[0]->budget_minutes, 0.001);
-  EXPECT_EQ(budgets[1]->budget_minutes, 0.002);
-  // The budget's time is measured, and the passes bring it within 5 % of the budget (or just past it).
+  EXPECT_EQ(budgets[0]->budget_minutes, 0.0025);
+  EXPECT_EQ(budgets[1]->budget_minutes, 0.005);
+  // The budget's time is measured, and the passes bring it within 5 % of the budget or past it — by little on a
+  // quiet machine; the bound leaves room for a shared one's stalls, and a budget the chain had already passed takes
+  // the image as it was (the same spp twice).
   for (const auto* b : budgets) {
     EXPECT_GE(b->seconds, 0.95 * b->budget_minutes * 60);
-    EXPECT_LT(b->seconds, 1.5 * b->budget_minutes * 60);
+    EXPECT_LT(b->seconds, 2 * b->budget_minutes * 60);
   }
   for (std::size_t i = 1; i < rows.size(); ++i) {
-    EXPECT_GT(rows[i].spp, rows[i - 1].spp);
-    EXPECT_GT(rows[i].seconds, rows[i - 1].seconds);
+    EXPECT_GE(rows[i].spp, rows[i - 1].spp);
+    EXPECT_GE(rows[i].seconds, rows[i - 1].seconds);
     if (rows[i].point == "progress") {
       EXPECT_EQ(rows[i].spp, 2 * rows[i - 1].spp) << "doubling";
     }
@@ -64,7 +66,7 @@ TEST(SweepPathTracing, BudgetsThenDoublingToTheCapAndAContinuation) {
 
   // A larger cap continues the same render where it stopped; a target it has reached ends it at once.
   const auto before = rows.size();
-  plan.cap_seconds = rows.back().seconds * 3;  // room for one doubling at least, whatever the machine's noise
+  plan.cap_seconds = rows.back().seconds * 2.2;  // room for one doubling: its expected time is the time so far
   sweep::extend_path_tracing(geometry, reference, dir, plan, rows, [] {});
   ASSERT_GT(rows.size(), before);
   EXPECT_EQ(rows[before].spp, 2 * rows[before - 1].spp);
