@@ -50,22 +50,31 @@ bool has_row(const std::vector<Row>& rows, const Row& row) {
   return std::any_of(rows.begin(), rows.end(), [&](const Row& r) { return r.key() == key; });
 }
 
-// The points of `config` without a row yet.
+// The steps of the run's snapshot at its largest budget, once it has one: the run is finished, and an equal-steps
+// point beyond them is out of its reach (it trains no further for one).
+std::optional<std::uint64_t> finished_steps(const fs::path& root, double max_minutes) {
+  std::ifstream in(root / budget_label(max_minutes) / "snapshot.json");
+  if (!in) return std::nullopt;
+  return nlohmann::json::parse(in).at("steps").get<std::uint64_t>();
+}
+
+// The points of `config` without a row yet that its run can give.
 std::vector<Target> missing_targets(const SweepContext& sweep, const Configuration& config, const fs::path& root) {
   std::vector<Target> targets;
   for (double minutes : sweep.options.minutes) {
     Target t{"budget", minutes, 0, root / budget_label(minutes)};
     if (!has_row(sweep.rows, base_row(config, t))) targets.push_back(t);
   }
-  if (!config.guided())
-    for (const auto& r : sweep.rows)
-      if (r.kind == "model" && r.point == "budget" && r.method != "nr" && r.samples == config.samples &&
-          r.seed == config.seed) {
-        Target t{"steps", kNone, r.steps, root / ("steps" + std::to_string(r.steps))};
-        const bool listed = std::any_of(targets.begin(), targets.end(),
-                                        [&](const Target& o) { return o.point == "steps" && o.steps == r.steps; });
-        if (!listed && !has_row(sweep.rows, base_row(config, t))) targets.push_back(t);
-      }
+  if (config.guided()) return targets;
+  const auto finished = finished_steps(root, sweep.options.minutes.back());
+  for (const auto& r : sweep.rows)
+    if (r.kind == "model" && r.point == "budget" && r.method != "nr" && r.samples == config.samples &&
+        r.seed == config.seed && (!finished || r.steps <= *finished)) {
+      Target t{"steps", kNone, r.steps, root / ("steps" + std::to_string(r.steps))};
+      const bool listed = std::any_of(targets.begin(), targets.end(),
+                                      [&](const Target& o) { return o.point == "steps" && o.steps == r.steps; });
+      if (!listed && !has_row(sweep.rows, base_row(config, t))) targets.push_back(t);
+    }
   return targets;
 }
 
@@ -136,14 +145,13 @@ void run_configuration(const SweepContext& sweep, const Configuration& config) {
   std::vector<Target> pending;
   for (const auto& t : targets)
     if (!t.taken()) pending.push_back(t);
-  // Only time budgets make the run train: an equal-steps point beyond what the run reached in its largest budget
-  // stays empty (the tables say so).
+  // Only time budgets make the run train.
   const auto budget_pending = [&] {
     return std::any_of(pending.begin(), pending.end(), [](const Target& t) { return t.point == "budget"; });
   };
   if (!budget_pending() || stop_requested()) return;
 
-  const double max_minutes = *std::max_element(sweep.options.minutes.begin(), sweep.options.minutes.end());
+  const double max_minutes = sweep.options.minutes.back();  // sorted
   const auto train_config = config.train_config(sweep.options.base, max_minutes);
   double first_pending_s = max_minutes * 60.0;
   for (const auto& t : pending)

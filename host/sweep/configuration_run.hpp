@@ -18,8 +18,8 @@ struct SweepContext {
   cl::Context& ctx;
   const geometry::Geometry& geometry;
   const image::Image& reference;
-  const SweepOptions& options;
-  std::vector<Row>& rows;  // results.csv's, kept in step with the file
+  const SweepOptions& options;  // its budgets sorted, each once
+  std::vector<Row>& rows;       // results.csv's, kept in step with the file
   std::filesystem::path results;
 };
 

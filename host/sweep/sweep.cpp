@@ -31,9 +31,9 @@ void check_options(const SweepOptions& o) {
   if (o.methods.empty()) throw InputError("--methods: give at least one method");
   for (const auto& m : o.methods) check_method(m);
   if (o.samples.empty()) throw InputError("--samples: give at least one sample count");
-  if (!fs::is_regular_file(o.scene)) throw InputError("scene " + o.scene.string() + " does not exist");
+  if (!fs::is_regular_file(o.scene)) throw InputError("scene " + o.scene.string() + ": no such file");
   if (!o.reference.empty() && !fs::is_regular_file(o.reference))
-    throw InputError("--reference " + o.reference.string() + " does not exist");
+    throw InputError("--reference " + o.reference.string() + ": no such file");
 }
 
 // The reference the metrics are taken against, at the render size: the given one (box-downsampled when it is an
