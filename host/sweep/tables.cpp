@@ -102,8 +102,9 @@ std::string tables_markdown(const std::vector<Row>& rows, const std::string& tit
 
   md +=
       "## Table 2 — equal time\n\nEvery method at each budget of training time, and the path tracer at the same "
-      "time of rendering (its spp chosen to fit the budget from the rate measured so far; the time is "
-      "measured).\n\n| N | budget | method | seeds | steps | time | memory | MAPE | MSE | relMSE | residual |\n"
+      "time of rendering (its spp chosen to fit the budget from the rate measured so far, in passes until "
+      "within 5 % of it; the time is measured, and a busy machine can push it past the budget).\n\n| N | budget | "
+      "method | seeds | steps | time | memory | MAPE | MSE | relMSE | residual |\n"
       "| ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
   for (const auto& [key, m] : means) {
     const auto& [n, budget, method] = key;
