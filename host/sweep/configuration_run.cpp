@@ -124,8 +124,7 @@ void evaluate(const SweepContext& sweep, const Configuration& config, const Targ
   std::printf("sweep: %s at %s: %llu steps, %.1f s, MAPE %.4g, relMSE %.4g, residual %.4g, render %.3g s\n",
               config.name().c_str(),
               t.point == "budget" ? budget_label(t.minutes).c_str() : ("step " + std::to_string(t.steps)).c_str(),
-              static_cast<unsigned long long>(info.at("steps").get<std::uint64_t>()), r.seconds, r.mape, r.relmse,
-              r.residual, r.render_seconds);
+              static_cast<unsigned long long>(r.steps), r.seconds, r.mape, r.relmse, r.residual, r.render_seconds);
 }
 
 }  // namespace
