@@ -13,8 +13,9 @@ extern "C" void on_stop_signal(int sig) {
 }
 }  // namespace
 
+// A stop already requested stays requested: a sweep installs the handlers once and runs one training after
+// another, each installing them again, and a Ctrl-C between two trainings must stop the next one too.
 void install_stop_handlers() {
-  g_stop.store(false);
   std::signal(SIGINT, on_stop_signal);
   std::signal(SIGTERM, on_stop_signal);
 }

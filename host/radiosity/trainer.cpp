@@ -200,11 +200,23 @@ StepStats Trainer::step() {
   return stats;
 }
 
+namespace {
+void write_model(const nn::Network& network, const nn::Network* guide, std::uint64_t seed, const fs::path& path) {
+  nn::Checkpoint c = network.checkpoint(std::to_string(seed));
+  if (guide) guide->add_tensors(c, "guide.");
+  nn::write_checkpoint(path.string(), c);
+}
+}  // namespace
+
 void Trainer::save_checkpoint() const {
+  if (writes_run_dir()) write_model(*network_, guide_.get(), config_.seed, run_dir_ / "model.clr");
+}
+
+void Trainer::save_snapshot(const fs::path& dir) const {
   if (!writes_run_dir()) return;
-  nn::Checkpoint c = network_->checkpoint(std::to_string(config_.seed));
-  if (guide_) guide_->add_tensors(c, "guide.");
-  nn::write_checkpoint((run_dir_ / "model.clr").string(), c);
+  fs::create_directories(dir);
+  write_text_atomically(dir / "config.json", nlohmann::json(config_).dump(2) + "\n");
+  write_model(*network_, guide_.get(), config_.seed, dir / "model.clr");
 }
 
 void Trainer::append_log(const std::string& line) const {
@@ -214,11 +226,15 @@ void Trainer::append_log(const std::string& line) const {
   if (!out) throw std::runtime_error("cannot append to " + (run_dir_ / "log.csv").string());
 }
 
-void Trainer::run() {
+void Trainer::run(const RunOptions& options) {
   install_stop_handlers();
   const double budget_s = config_.minutes * 60.0;
   const auto start = std::chrono::steady_clock::now();
-  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  double outside_s = 0;  // spent in options.after_step: not training time
+  const auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - outside_s;
+  };
+  const double budget_before_s = options.minutes_in_total ? seconds_before_ : 0.0;
   const double total = config_.steps > 0 ? double(config_.steps) : budget_s;
   const auto first_step = long(network_->steps());
   Progress progress("train", total);
@@ -230,15 +246,57 @@ void Trainer::run() {
   const auto spent = [&] {
     double f = 0;
     if (config_.steps > 0) f = double(network_->steps()) / double(config_.steps);
-    if (budget_s > 0) f = std::max(f, elapsed() / budget_s);
+    if (budget_s > 0) f = std::max(f, (budget_before_s + elapsed()) / budget_s);
     return f;
   };
   // Ranks agree on stopping and on the budget spent (the learning rate follows it), or their models would part.
   const distributed::Communicator& ranks = exchange_.communicator();
+  double lr_scale = 1;
+  // One row of log.csv over the steps since the last one.
+  const auto log_row = [&](long now) {
+    nn::LossValue v = loss_.take();
+    nn::LossValue g = guide_ ? incident_.vmf().take() : nn::LossValue{0, 0};
+    // Incident terms dropped while forming the right-hand side count too: they never reach the loss, so the
+    // loss's own count cannot see them.
+    std::uint32_t rhs_dropped = non_finite_.read()[0];
+    non_finite_.fill(0u);
+    if (ranks.distributed()) {
+      // Each rank's loss is its share of the global batch's mean: the row is their sum.
+      double totals[] = {v.loss, g.loss, double(v.non_finite + g.non_finite + rhs_dropped), double(lookups),
+                         double(guided)};
+      ranks.sum(totals);
+      v = {totals[0], std::uint32_t(totals[2])};
+      g = {totals[1], 0};
+      rhs_dropped = 0;
+      lookups = std::size_t(totals[3]);
+      guided = std::size_t(totals[4]);
+    }
+    loss_sum = v.loss / double(loss_steps);
+    char row[256];
+    std::snprintf(row, sizeof row, "%ld,%.3f,%.6g,%.3f,%u,%.6g,%.4g", now, seconds_before_ + elapsed(), loss_sum,
+                  double(lookups) / double(loss_steps * config_.batch * config_.samples),
+                  v.non_finite + g.non_finite + rhs_dropped,
+                  lr_scale * double(network_->config().adam.learning_rate_at(std::uint64_t(now))),
+                  double(residual_power_));
+    std::string line = row;
+    if (guide_) {
+      std::snprintf(row, sizeof row, ",%.6g,%.4f", g.loss / double(loss_steps),
+                    double(guided) / double(loss_steps * config_.batch * config_.samples));
+      line += row;
+    }
+    append_log(line);
+    char detail[128];
+    std::snprintf(detail, sizeof detail, "step %ld  loss %.4g  %.2f steps/s", now, loss_sum,
+                  double(now - first_step) / std::max(1e-9, elapsed()));
+    last = detail;
+    loss_steps = 0;
+    lookups = 0;
+    guided = 0;
+  };
   while (ranks.max(stop_requested() ? 1.0 : 0.0) == 0.0) {
     const double fraction = ranks.max(spent());
     if (fraction >= 1.0) break;
-    const double lr_scale = config_.learning_rate_scale(fraction);
+    lr_scale = config_.learning_rate_scale(fraction);
     network_->set_learning_rate_scale(float(lr_scale));
     if (guide_) guide_->set_learning_rate_scale(float(lr_scale));
     residual_power_ = float(config_.relative_power(fraction));
@@ -248,50 +306,21 @@ void Trainer::run() {
     guided += stats.guided;
     ++loss_steps;
     const long now = long(network_->steps());
-    if (now % config_.log_every == 0) {
-      nn::LossValue v = loss_.take();
-      nn::LossValue g = guide_ ? incident_.vmf().take() : nn::LossValue{0, 0};
-      // Incident terms dropped while forming the right-hand side count too: they never reach the loss, so the
-      // loss's own count cannot see them.
-      std::uint32_t rhs_dropped = non_finite_.read()[0];
-      non_finite_.fill(0u);
-      if (ranks.distributed()) {
-        // Each rank's loss is its share of the global batch's mean: the row is their sum.
-        double totals[] = {v.loss, g.loss, double(v.non_finite + g.non_finite + rhs_dropped), double(lookups),
-                           double(guided)};
-        ranks.sum(totals);
-        v = {totals[0], std::uint32_t(totals[2])};
-        g = {totals[1], 0};
-        rhs_dropped = 0;
-        lookups = std::size_t(totals[3]);
-        guided = std::size_t(totals[4]);
-      }
-      loss_sum = v.loss / double(loss_steps);
-      char row[256];
-      std::snprintf(row, sizeof row, "%ld,%.3f,%.6g,%.3f,%u,%.6g,%.4g", now, seconds_before_ + elapsed(), loss_sum,
-                    double(lookups) / double(loss_steps * config_.batch * config_.samples),
-                    v.non_finite + g.non_finite + rhs_dropped,
-                    lr_scale * double(network_->config().adam.learning_rate_at(std::uint64_t(now))),
-                    double(residual_power_));
-      std::string line = row;
-      if (guide_) {
-        std::snprintf(row, sizeof row, ",%.6g,%.4f", g.loss / double(loss_steps),
-                      double(guided) / double(loss_steps * config_.batch * config_.samples));
-        line += row;
-      }
-      append_log(line);
-      char detail[128];
-      std::snprintf(detail, sizeof detail, "step %ld  loss %.4g  %.2f steps/s", now, loss_sum,
-                    double(now - first_step) / std::max(1e-9, elapsed()));
-      last = detail;
-      loss_steps = 0;
-      lookups = 0;
-      guided = 0;
-    }
+    if (now % config_.log_every == 0) log_row(now);
     if (now % kRankCheckEvery == 0) check_ranks_agree(std::uint64_t(now));
     if (now % config_.checkpoint_every == 0) save_checkpoint();
-    progress.update(config_.steps > 0 ? double(now) : elapsed(), last);
+    progress.update(config_.steps > 0 ? double(now) : budget_before_s + elapsed(), last);
+    seconds_this_session_ = elapsed();
+    if (options.after_step) {
+      const auto hook_start = std::chrono::steady_clock::now();
+      options.after_step(seconds_trained());
+      outside_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - hook_start).count();
+    }
   }
+  seconds_this_session_ = elapsed();
+  // The steps since the last row get one too, so that log.csv's time axis ends where the training did: a resumed
+  // run (and a sweep's budget in total) starts from it.
+  if (loss_steps > 0) log_row(long(network_->steps()));
   check_ranks_agree(network_->steps());
   save_checkpoint();
   progress.finish(last + (stop_requested() ? "  (stopped by signal; checkpoint written)" : ""));

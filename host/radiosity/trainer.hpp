@@ -5,6 +5,7 @@
 // on the device, and after the N-Module's step the I-Module takes its own on the KL / IKL gradient (sg both ways).
 // A run lives in RUN_DIR: config.json (settings), log.csv (one row per log interval), model.clr (checkpoint).
 #include <filesystem>
+#include <functional>
 #include <memory>
 
 #include "cl/context.hpp"
@@ -42,10 +43,27 @@ class Trainer {
   Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConfig config, std::filesystem::path run_dir,
           bool resume, const distributed::Communicator& ranks = distributed::Communicator::single());
 
+  // What run() may do beyond the plain training of `train` (the sweep: one run per configuration, snapshots at
+  // every time budget on the way).
+  struct RunOptions {
+    // The time budget (config.minutes) counts the training time of earlier sessions of a resumed run too, and so
+    // does the learning-rate schedule: a sweep's budgets are points of one run's total training time, however
+    // many sessions it took. Off (`train --minutes`): the budget is this session's.
+    bool minutes_in_total = false;
+    // Called after every step with the run's training seconds so far (earlier sessions included). The time spent
+    // in it does not count as training time, so writing a snapshot from it costs the run nothing.
+    std::function<void(double seconds)> after_step;
+  };
   // Trains until the step or time budget is spent or a stop signal arrives; checkpoints at the end.
-  void run();
+  void run(const RunOptions& options);
+  void run() { run(RunOptions{}); }
   StepStats step();
   void save_checkpoint() const;
+  // The networks as they are now, as a run directory of their own (model.clr + config.json) that render, residual
+  // and guide read: a sweep's snapshot of the run at one budget.
+  void save_snapshot(const std::filesystem::path& dir) const;
+  // Training seconds over every session of the run so far (as log.csv's `seconds` column counts them).
+  double seconds_trained() const { return seconds_before_ + seconds_this_session_; }
 
   std::uint64_t steps_done() const { return network_->steps(); }
   const TrainConfig& config() const { return config_; }
@@ -87,6 +105,7 @@ class Trainer {
   bool hold_radiance_ = false;
   cl::Buffer<float> point_radiance_;  // sg(L_α) at the points, where no forward computed it (held N-Module)
   double seconds_before_ = 0;         // training time of earlier sessions of a resumed run
+  double seconds_this_session_ = 0;   // run()'s training time, updated every step
   distributed::GradientExchange exchange_;
 };
 

@@ -5,8 +5,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "common/error.hpp"
 #include "radiosity/residual.hpp"
@@ -207,6 +209,56 @@ TEST_F(Training, RunsWithoutAMethodResumeAsNr) {
   EXPECT_EQ(resumed.guide(), nullptr);
   resumed.run();
   EXPECT_EQ(resumed.steps_done(), 20u);
+}
+
+// The sweep's use of a run: snapshots written from the step hook, whose time is not training time, and a time
+// budget that counts every session of a resumed run.
+TEST_F(Training, SnapshotsOnTheWayAndABudgetInTotal) {
+  const auto scene = scene::load_scene(kScenes / "cornell-box.xml", {{"res", "16"}});
+  const geometry::Geometry geometry(scene);
+  TempRun run("snapshots");
+  auto config = small_config(0);
+  config.minutes = 0.01;  // 0.6 s
+  const fs::path snapshot = run.path / "snapshot";
+  double snapshot_seconds = 0;
+  std::uint64_t snapshot_steps = 0;
+  const auto wall_start = std::chrono::steady_clock::now();
+  {
+    radiosity::Trainer trainer(ctx(), geometry, config, run.path / "train", false);
+    radiosity::Trainer::RunOptions options;
+    options.after_step = [&](double seconds) {
+      if (snapshot_steps > 0 || seconds < 0.3) return;
+      trainer.save_snapshot(snapshot);
+      snapshot_seconds = seconds;
+      snapshot_steps = trainer.steps_done();
+      std::this_thread::sleep_for(std::chrono::milliseconds(800));  // as long as the whole budget: not counted
+    };
+    trainer.run(options);
+    EXPECT_GE(trainer.seconds_trained(), 0.6);
+    EXPECT_LT(trainer.seconds_trained(), 0.6 + 0.5);
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  EXPECT_GT(wall, 0.6 + 0.8);
+  ASSERT_GT(snapshot_steps, 0u) << "the hook never saw 0.3 s of training";
+  EXPECT_GE(snapshot_seconds, 0.3);
+  // A snapshot is a run directory of its own: its networks load as render and residual load them.
+  EXPECT_EQ(radiosity::load_network(ctx(), snapshot / "model.clr")->steps(), snapshot_steps);
+  EXPECT_NE(radiosity::load_guide(ctx(), snapshot), nullptr);
+
+  // Resumed with a budget in total, a run past it takes no step; a larger total continues to it, not beyond.
+  radiosity::Trainer::RunOptions in_total;
+  in_total.minutes_in_total = true;
+  radiosity::Trainer spent(ctx(), geometry, config, run.path / "train", true);
+  const auto steps = spent.steps_done();
+  spent.run(in_total);
+  EXPECT_EQ(spent.steps_done(), steps);
+  config.minutes = 0.02;
+  radiosity::Trainer more(ctx(), geometry, config, run.path / "train", true);
+  const double before = more.seconds_trained();
+  more.run(in_total);
+  EXPECT_GT(more.steps_done(), steps);
+  EXPECT_GE(more.seconds_trained(), 1.2);
+  EXPECT_LT(more.seconds_trained() - before, 1.2 - 0.3) << "the second session counted its own budget";
 }
 
 TEST_F(Training, RunDirectoryRules) {

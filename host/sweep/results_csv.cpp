@@ -1,0 +1,98 @@
+#include "sweep/results_csv.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "common/atomic_file.hpp"
+#include "common/error.hpp"
+
+namespace clr::sweep {
+namespace {
+
+constexpr const char* kHeader =
+    "kind,method,samples,seed,point,budget_minutes,steps,seconds,peak_device_mib,spp,render_seconds,mape,mse,"
+    "relmse,non_finite,residual,residual_se,image,error_map";
+constexpr std::size_t kColumns = 19;
+
+std::string number(double v) {
+  if (std::isnan(v)) return "";
+  char s[32];
+  std::snprintf(s, sizeof s, "%.9g", v);
+  return s;
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream in(line);
+  for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+}  // namespace
+
+std::string Row::key() const {
+  const std::string at = point == "budget"  ? number(budget_minutes)
+                         : point == "steps" ? std::to_string(steps)
+                                            : std::to_string(spp);
+  return kind + "/" + method + "/" + std::to_string(samples) + "/" + std::to_string(seed) + "/" + point + "/" + at;
+}
+
+std::vector<Row> read_results(const std::filesystem::path& path) {
+  std::vector<Row> rows;
+  std::ifstream in(path);
+  if (!in) return rows;
+  std::string line;
+  int line_number = 1;
+  if (!std::getline(in, line) || line != kHeader)
+    throw InputError(path.string() + ":1: not a sweep's results.csv (header differs)");
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.empty()) continue;
+    const auto c = split(line);
+    const std::string where = path.string() + ":" + std::to_string(line_number);
+    if (c.size() != kColumns) throw InputError(where + ": expected " + std::to_string(kColumns) + " cells");
+    try {
+      const auto real = [](const std::string& s) { return s.empty() ? kNone : std::stod(s); };
+      Row r;
+      r.kind = c[0];
+      r.method = c[1];
+      r.samples = std::stoi(c[2]);
+      r.seed = std::stoull(c[3]);
+      r.point = c[4];
+      r.budget_minutes = real(c[5]);
+      r.steps = std::stoull(c[6]);
+      r.seconds = std::stod(c[7]);
+      r.peak_device_mib = real(c[8]);
+      r.spp = std::stoi(c[9]);
+      r.render_seconds = std::stod(c[10]);
+      r.mape = real(c[11]);
+      r.mse = real(c[12]);
+      r.relmse = real(c[13]);
+      r.non_finite = std::stoull(c[14]);
+      r.residual = real(c[15]);
+      r.residual_se = real(c[16]);
+      r.image = c[17];
+      r.error_map = c[18];
+      rows.push_back(r);
+    } catch (const std::logic_error&) {  // std::stod and friends: invalid_argument, out_of_range
+      throw InputError(where + ": malformed number");
+    }
+  }
+  return rows;
+}
+
+void write_results(const std::filesystem::path& path, const std::vector<Row>& rows) {
+  std::string text = std::string(kHeader) + "\n";
+  for (const auto& r : rows)
+    text += r.kind + "," + r.method + "," + std::to_string(r.samples) + "," + std::to_string(r.seed) + "," + r.point +
+            "," + number(r.budget_minutes) + "," + std::to_string(r.steps) + "," + number(r.seconds) + "," +
+            number(r.peak_device_mib) + "," + std::to_string(r.spp) + "," + number(r.render_seconds) + "," +
+            number(r.mape) + "," + number(r.mse) + "," + number(r.relmse) + "," + std::to_string(r.non_finite) + "," +
+            number(r.residual) + "," + number(r.residual_se) + "," + r.image + "," + r.error_map + "\n";
+  write_text_atomically(path, text);
+}
+
+}  // namespace clr::sweep

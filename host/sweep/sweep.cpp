@@ -1,0 +1,146 @@
+#include "sweep/sweep.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "common/atomic_file.hpp"
+#include "common/error.hpp"
+#include "common/run_lock.hpp"
+#include "common/stop_signal.hpp"
+#include "reference/path_tracer.hpp"
+#include "scene/scene.hpp"
+#include "sweep/configuration_run.hpp"
+#include "sweep/path_tracing.hpp"
+#include "sweep/tables.hpp"
+
+extern char** environ;
+
+namespace clr::sweep {
+namespace fs = std::filesystem;
+namespace {
+
+void check_options(const SweepOptions& o) {
+  if (o.minutes.empty()) throw InputError("--minutes: give at least one budget");
+  for (double m : o.minutes)
+    if (!(m > 0) || !std::isfinite(m)) throw InputError("--minutes: budgets must be finite and > 0");
+  if (o.methods.empty()) throw InputError("--methods: give at least one method");
+  for (const auto& m : o.methods) check_method(m);
+  if (o.samples.empty()) throw InputError("--samples: give at least one sample count");
+  if (!fs::is_regular_file(o.scene)) throw InputError("scene " + o.scene.string() + ": no such file");
+  if (!o.reference.empty() && !fs::is_regular_file(o.reference))
+    throw InputError("--reference " + o.reference.string() + ": no such file");
+}
+
+// The reference the metrics are taken against, at the render size: the given one (box-downsampled when it is an
+// integer multiple of the size), or one the sweep path-traces — and says so — and keeps for its reruns.
+image::Image reference_image(const geometry::Geometry& geometry, const SweepOptions& o, int width, int height) {
+  const image::Image like(width, height);
+  if (!o.reference.empty()) {
+    try {
+      return image::match_size(image::read_exr(o.reference), like);
+    } catch (const InputError& e) {
+      throw InputError("--reference " + o.reference.string() + ": " + e.what());
+    }
+  }
+  const fs::path path = o.dir / "reference.exr";
+  if (fs::exists(path)) {
+    std::printf("sweep: no --reference: using %s, path-traced by an earlier run of this sweep\n", path.c_str());
+    return image::match_size(image::read_exr(path), like);
+  }
+  std::printf("sweep: no --reference: path-tracing one at %d spp into %s (--reference-spp)\n", o.reference_spp,
+              path.c_str());
+  std::fflush(stdout);
+  reference::RenderOptions render;
+  render.width = width;
+  render.height = height;
+  render.spp = o.reference_spp;
+  render.progress = true;
+  const auto img = reference::render(geometry, render);
+  image::write_exr(path, img);
+  return img;
+}
+
+// Runs bench/plot_sweep.py on SWEEP_DIR when python3 has matplotlib; the CSV and tables never depend on it.
+void draw_figures(const SweepOptions& o) {
+  const auto spawn = [](std::vector<std::string> args, bool quiet) {
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    if (quiet) {
+      posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+      posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+    }
+    pid_t pid = 0;
+    int status = -1;
+    if (posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0) waitpid(pid, &status, 0);
+    posix_spawn_file_actions_destroy(&actions);
+    return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  };
+  if (o.plot_script.empty()) return;
+  if (!spawn({"python3", "-c", "import matplotlib"}, true)) {
+    std::printf("sweep: figures skipped: python3-matplotlib is missing (apt-get install python3-matplotlib)\n");
+    return;
+  }
+  std::fflush(stdout);
+  if (!spawn({"python3", o.plot_script.string(), o.dir.string()}, false))
+    std::printf("sweep: figures failed: %s exited with an error (the tables are complete)\n", o.plot_script.c_str());
+}
+
+}  // namespace
+
+void run_sweep(cl::Context& ctx, const SweepOptions& options) {
+  check_options(options);
+  SweepOptions o = options;
+  std::sort(o.minutes.begin(), o.minutes.end());
+  o.minutes.erase(std::unique(o.minutes.begin(), o.minutes.end()), o.minutes.end());
+  const scene::Scene scene = scene::load_scene(o.scene);
+  scene::require_sensor(scene, o.scene);
+  scene::require_emitter(scene, o.scene);
+  const int width = o.width > 0 ? o.width : scene.camera.width, height = o.height > 0 ? o.height : scene.camera.height;
+  image::check_image_size(width, height, "--width × --height");
+  const fs::path results = o.dir / "results.csv";
+  // Read before any work: a damaged file is bad input, not a reason to train again.
+  std::vector<Row> rows = read_results(results);
+  const RunLock lock(o.dir);  // one sweep per SWEEP_DIR
+  require_writable_directory(o.dir, "sweep directory");
+  install_stop_handlers();
+  const geometry::Geometry geometry(scene);
+  const image::Image reference = reference_image(geometry, o, width, height);
+  image::write_png(o.dir / "reference.png", reference);
+
+  const SweepContext sweep{ctx, geometry, reference, o, rows, results};
+  for (const auto& config : plan_configurations(o.methods, o.samples, o.seeds)) {
+    if (stop_requested()) break;
+    run_configuration(sweep, config);
+  }
+
+  PathTracingPlan pt;
+  pt.render.width = width;
+  pt.render.height = height;
+  pt.budgets_minutes = o.minutes;
+  pt.cap_seconds = o.path_tracing_cap * o.minutes.back() * 60.0;
+  pt.target_mape = 0;
+  for (const auto& r : rows)
+    if (r.kind == "model" && r.point == "budget" && (pt.target_mape == 0 || r.mape < pt.target_mape))
+      pt.target_mape = r.mape;
+  if (!stop_requested())
+    extend_path_tracing(geometry, reference, o.dir, pt, rows, [&] { write_results(results, rows); });
+
+  write_text_atomically(o.dir / "tables.md", tables_markdown(rows, "Sweep of " + o.scene.string()));
+  if (stop_requested()) {
+    std::printf("sweep: stopped; %zu finished rows kept in %s — run the same command again to continue\n", rows.size(),
+                results.c_str());
+    return;
+  }
+  draw_figures(o);
+  std::printf("sweep: %zu rows in %s, tables in %s\n", rows.size(), results.c_str(), (o.dir / "tables.md").c_str());
+}
+
+}  // namespace clr::sweep
