@@ -14,23 +14,22 @@ namespace {
 
 struct Preset {
   const char* name;
-  double minutes;  // the budget when none is given
-  std::size_t cpu_width, gpu_width;
-  int samples;
+  double minutes;          // the budget when none is given
+  int cpu_batch;           // 0: the device's default (default_batch)
+  int samples;             // N
   std::size_t log2_table;  // at most; smaller where the scene's surfaces need fewer entries
-  const char* why;         // the measurement behind the width and N
+  const char* why;         // the measurements behind the batch, the width and N (README "Presets")
 };
 
-// README "Presets" holds the measurements these rows cite.
 constexpr Preset kPresets[] = {
-    {"preview", 1.0, 128, 256, 4, 18,
-     "width 128 on CPUs: at a minute's budget the error is Monte Carlo noise that more steps average down, and "
-     "width 128 takes about 1.5x the steps of 256"},
-    {"balanced", 2.0, 256, 512, 4, 18,
-     "the defaults: width 256 on CPUs beat 512 at 2-10 minute budgets (more steps), the paper's 512 on GPUs"},
-    {"quality", 10.0, 256, 512, 4, 18, "width 256 on CPUs still beat 512 at 10 minutes; N = 4 as the paper"},
+    {"preview", 1.0, 2048, 4, 18,
+     "at a 1-minute budget batch 2048 beat 4096 on CPUs (the Cornell box and Veach Bidir: more steps average "
+     "the noise down), and width 128 lost to 256 (fewer parameters learn less per step than the extra steps gain)"},
+    {"balanced", 2.0, 0, 4, 18,
+     "the defaults: from 2 minutes on, batch 4096 beat 2048 on CPUs; width 256 on CPUs beat 512 at 2-10 minutes; "
+     "the paper's batch and width on GPUs"},
+    {"quality", 10.0, 0, 4, 18, "the defaults, for 10 minutes: width 256 on CPUs still beat 512 there"},
 };
-
 // Hash-table entries the modelled surfaces occupy at the grid's finest level: a surface crosses about
 // 2·area/cell² vertices there (two layers about a plane), with the area in units of the box the grid spans.
 double surface_vertices(const SceneInputs& scene, const nn::HashGridConfig& grid) {
@@ -55,10 +54,11 @@ std::vector<std::string> apply_preset(const std::string& name, TrainConfig& conf
     std::snprintf(line, sizeof line, "budget %g min (no --steps or --minutes given)", p->minutes);
     why.emplace_back(line);
   }
+  // GPUs take the defaults (the paper's batch and width): no GPU has measured other choices yet.
   const bool gpu = device.type == "gpu";
-  config.batch = default_batch(device);
+  config.batch = gpu || p->cpu_batch == 0 ? default_batch(device) : p->cpu_batch;
   config.samples = p->samples;
-  const std::size_t width = gpu ? p->gpu_width : p->cpu_width;
+  const std::size_t width = default_width(device);
   config.network["width"] = width;
   std::snprintf(line, sizeof line, "batch %d x N %d, N-Module width %zu on a %s: %s", config.batch, config.samples,
                 width, gpu ? "GPU" : "CPU", p->why);
