@@ -18,6 +18,7 @@
 
 #include "cl/device.hpp"
 #include "nn/checkpoint.hpp"
+#include "support/cli_run_dir.hpp"
 #include "support/run_cli.hpp"
 
 namespace clr::test {
@@ -29,20 +30,11 @@ using ::testing::Not;
 
 const std::string kBox = (fs::path(CLR_SOURCE_DIR) / "scenes" / "cornell-box.xml").string();
 
-class FaultCli : public ::testing::Test {
+class FaultCli : public CliRunDir {
  protected:
-  void SetUp() override {
-    if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL device";
-    dir = fs::temp_directory_path() / ("clr_fault_cli_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    config = (dir / "small.json").string();
-    // checkpoint_every 1: a checkpoint is written after every step, so a kill at a random time often lands in
-    // the middle of a write.
-    std::ofstream(config) << R"({"batch": 256, "log_every": 1, "checkpoint_every": 1, "network": {"width": 32,
-        "hidden_layers": 2, "encoder": {"grid": {"levels": 4, "log2_table": 12}}}})";
-  }
-  void TearDown() override { fs::remove_all(dir); }
+  // checkpoint_every 1: a checkpoint is written after every step, so a kill at a random time often lands in the
+  // middle of a write.
+  FaultCli() : CliRunDir("fault_cli", {{"log_every", 1}, {"checkpoint_every", 1}}) {}
 
   // Starts `train` on the Cornell box in the background with its output discarded.
   pid_t start_training(const fs::path& run, bool resume) {
@@ -61,9 +53,6 @@ class FaultCli : public ::testing::Test {
     }
     return pid;
   }
-
-  fs::path dir;
-  std::string config;
 };
 
 std::size_t lines_in(const fs::path& p) {

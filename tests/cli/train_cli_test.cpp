@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "cl/device.hpp"
+#include "support/cli_run_dir.hpp"
 #include "support/run_cli.hpp"
 
 namespace clr::test {
@@ -24,20 +25,9 @@ using ::testing::HasSubstr;
 
 const std::string kBox = (fs::path(CLR_SOURCE_DIR) / "scenes" / "cornell-box.xml").string();
 
-class TrainCli : public ::testing::Test {
+class TrainCli : public CliRunDir {
  protected:
-  void SetUp() override {
-    if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL device";
-    dir = fs::temp_directory_path() / ("clr_train_cli_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    config = (dir / "small.json").string();
-    std::ofstream(config) << R"({"batch": 256, "log_every": 5, "network": {"width": 32, "hidden_layers": 2,
-        "encoder": {"grid": {"levels": 4, "log2_table": 12}}}})";
-  }
-  void TearDown() override { fs::remove_all(dir); }
-  fs::path dir;
-  std::string config;
+  TrainCli() : CliRunDir("train_cli") {}
 };
 
 std::size_t lines_in(const fs::path& p) {

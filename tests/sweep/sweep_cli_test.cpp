@@ -18,6 +18,7 @@
 
 #include "cl/device.hpp"
 #include "image/image.hpp"
+#include "support/cli_run_dir.hpp"
 #include "support/run_cli.hpp"
 #include "sweep/results_csv.hpp"
 
@@ -29,28 +30,21 @@ using ::testing::HasSubstr;
 
 const std::string kBox = (fs::path(CLR_SOURCE_DIR) / "scenes" / "cornell-box.xml").string();
 
-class SweepCli : public ::testing::Test {
+class SweepCli : public CliRunDir {
  protected:
+  SweepCli() : CliRunDir("sweep_cli") {}
   void SetUp() override {
-    if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL device";
-    dir = fs::temp_directory_path() / ("clr_sweep_cli_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    const std::string config = (dir / "small.json").string();
-    std::ofstream(config) << R"({"batch": 256, "log_every": 5, "network": {"width": 32, "hidden_layers": 2,
-        "encoder": {"grid": {"levels": 4, "log2_table": 12}}}})";
+    CliRunDir::SetUp();
     // Small everything: the budgets are seconds, the residual's estimate coarse; what is tested is the sweep.
     common = " --width 16 --height 16 --spp 4 --reference-spp 64 --residual-points 256 --residual-samples 4 --config " +
              config;
   }
-  void TearDown() override { fs::remove_all(dir); }
 
   // The sweep's arguments for SWEEP_DIR `out`: both methods, N = 4, one seed.
   std::string args(const fs::path& out, const std::string& minutes) const {
     return "sweep " + kBox + " -o " + out.string() + " --minutes " + minutes + " --methods nr,isnr-ikl" + common;
   }
 
-  fs::path dir;
   std::string common;
 };
 
