@@ -28,7 +28,9 @@ constexpr Preset kPresets[] = {
     {"balanced", 2.0, 0, 4, 18,
      "the defaults: from 2 minutes on, batch 4096 beat 2048 on CPUs; width 256 on CPUs beat 512 at 2-10 minutes; "
      "the paper's batch and width on GPUs"},
-    {"quality", 10.0, 0, 4, 18, "the defaults, for 10 minutes: width 256 on CPUs still beat 512 there"},
+    {"quality", 10.0, 0, 4, 18,
+     "the defaults, for 10 minutes: width 256 on CPUs still beat 512 there; N = 32 took a third of the steps and "
+     "was no better for ISNR on Veach Bidir at 5 minutes (clradiosity sweep)"},
 };
 // Hash-table entries the modelled surfaces occupy at the grid's finest level: a surface crosses about
 // 2·area/cell² vertices there (two layers about a plane), with the area in units of the box the grid spans.
