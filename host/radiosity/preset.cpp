@@ -14,24 +14,28 @@ namespace {
 
 struct Preset {
   const char* name;
-  double minutes;          // the budget when none is given
-  int cpu_batch;           // 0: the device's default (default_batch)
-  int samples;             // N
-  std::size_t log2_table;  // at most; smaller where the scene's surfaces need fewer entries
-  const char* why;         // the measurements behind the batch, the width and N (README "Presets")
+  double minutes;   // the budget when none is given
+  int cpu_batch;    // 0: the device's default (default_batch)
+  int samples;      // N
+  const char* why;  // the measurements behind the batch, the width and N (README "Presets")
 };
 
+// The hash table of every preset, at most (smaller where the scene's surfaces need fewer entries): at 1000 steps
+// 2^16 was worse and 2^20 no better than 2^18 on the Cornell box and Veach Bidir.
+constexpr std::size_t kMaxLog2Table = 18;
+
 constexpr Preset kPresets[] = {
-    {"preview", 1.0, 2048, 4, 18,
+    {"preview", 1.0, 2048, 4,
      "at a 1-minute budget batch 2048 beat 4096 on CPUs (the Cornell box and Veach Bidir: more steps average "
      "the noise down), and width 128 lost to 256 (fewer parameters learn less per step than the extra steps gain)"},
-    {"balanced", 2.0, 0, 4, 18,
+    {"balanced", 2.0, 0, 4,
      "the defaults: from 2 minutes on, batch 4096 beat 2048 on CPUs; width 256 on CPUs beat 512 at 2-10 minutes; "
      "the paper's batch and width on GPUs"},
-    {"quality", 10.0, 0, 4, 18,
+    {"quality", 10.0, 0, 4,
      "the defaults, for 10 minutes: width 256 on CPUs still beat 512 there; N = 32 took a third of the steps and "
      "was no better for ISNR on Veach Bidir at 5 minutes (clradiosity sweep)"},
 };
+
 // Hash-table entries the modelled surfaces occupy at the grid's finest level: a surface crosses about
 // 2·area/cell² vertices there (two layers about a plane), with the area in units of the box the grid spans.
 double surface_vertices(const SceneInputs& scene, const nn::HashGridConfig& grid) {
@@ -71,7 +75,7 @@ std::vector<std::string> apply_preset(const std::string& name, TrainConfig& conf
   const nn::HashGridConfig grid = *nn::n_module_config(scene.lo, scene.hi).encoder.grid;
   const double need = surface_vertices(scene, grid);
   const auto log2_table =
-      std::clamp<std::size_t>(std::size_t(std::ceil(std::log2(std::max(need, 1.0)))), 10, p->log2_table);
+      std::clamp<std::size_t>(std::size_t(std::ceil(std::log2(std::max(need, 1.0)))), 10, kMaxLog2Table);
   config.network["encoder"]["grid"]["log2_table"] = log2_table;
   std::snprintf(line, sizeof line,
                 "hash table 2^%zu entries a level: the surfaces cross ~%.3g vertices at the finest level; 2^16 was "
