@@ -145,6 +145,8 @@ int main(int argc, char** argv) {
     if (const double nominal = nominal_cpu_peak_gflops(ctx.device()); nominal > 0)
       std::printf("; nominal at the reported clock: %.0f GFLOP/s", nominal);
     std::printf("\n");
+    // The anchor's own kernel: OPENBLAS_CORETYPE can pin an older one (an AVX2 kernel on an AVX-512 machine).
+    std::printf("OpenBLAS anchor: %s kernel, %d threads\n", openblas_get_corename(), openblas_get_num_threads());
   }
 
   nlohmann::json gemm_rows = nlohmann::json::array();
@@ -196,6 +198,7 @@ int main(int argc, char** argv) {
                            {"rows", rows},
                            {"gflops", gf},
                            {"openblas_gflops", blas},
+                           {"openblas_core", openblas_get_corename()},
                            {"peak_gflops", peak}});
       if (!json)
         std::printf(

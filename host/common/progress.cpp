@@ -18,10 +18,16 @@ std::string duration_text(double s) {
 }
 }  // namespace
 
-Progress::Progress(std::string label, double total, double interval_seconds)
+double eta_seconds(double elapsed, double done, double already_done, double total) {
+  const double here = done - already_done;
+  return here > 0 ? elapsed * (total - done) / here : 0.0;
+}
+
+Progress::Progress(std::string label, double total, double interval_seconds, double already_done)
     : label_(std::move(label)),
       total_(total),
       interval_(interval_seconds),
+      already_done_(already_done),
       tty_(::isatty(STDERR_FILENO) != 0),
       start_(std::chrono::steady_clock::now()),
       last_print_(start_) {}
@@ -60,7 +66,8 @@ void Progress::print(double done, const std::string& detail, bool final) {
     line += buf;
   }
   line += " " + duration_text(t);
-  if (total_ > 0 && done > 0 && !final) line += " (ETA " + duration_text(t * (total_ - done) / done) + ")";
+  if (total_ > 0 && done > already_done_ && !final)
+    line += " (ETA " + duration_text(eta_seconds(t, done, already_done_, total_)) + ")";
   if (!detail.empty()) line += "  " + detail;
   if (tty_)
     std::fprintf(stderr, "\r\033[K%s%s", line.c_str(), final ? "\n" : "");

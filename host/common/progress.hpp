@@ -6,10 +6,15 @@
 
 namespace clr {
 
+// Seconds left for `total` at the rate of this process: `done` after `elapsed` seconds, `already_done` of it from
+// before (0 while nothing is done yet).
+double eta_seconds(double elapsed, double done, double already_done, double total);
+
 class Progress {
  public:
-  // `label` prefixes every line ("train", "reference"); `total` is the amount of work (0: unknown).
-  Progress(std::string label, double total, double interval_seconds = 5.0);
+  // `label` prefixes every line ("train", "reference"); `total` is the amount of work (0: unknown), of which
+  // `already_done` was done before this process (a resumed run): the ETA takes the rate of this process alone.
+  Progress(std::string label, double total, double interval_seconds = 5.0, double already_done = 0);
   ~Progress();
   // Reports `done` units; `detail` is appended ("loss 0.12"). Prints only when due.
   void update(double done, const std::string& detail = "");
@@ -25,6 +30,7 @@ class Progress {
   std::string label_;
   double total_;
   double interval_;
+  double already_done_;
   bool tty_;
   bool finished_ = false;
   double last_done_ = 0;

@@ -237,7 +237,7 @@ void Trainer::run(const RunOptions& options) {
   const double budget_before_s = options.minutes_in_total ? seconds_before_ : 0.0;
   const double total = config_.steps > 0 ? double(config_.steps) : budget_s;
   const auto first_step = long(network_->steps());
-  Progress progress("train", total);
+  Progress progress("train", total, 5.0, config_.steps > 0 ? double(first_step) : budget_before_s);
   double loss_sum = 0;
   long loss_steps = 0;
   std::size_t lookups = 0, guided = 0;

@@ -89,6 +89,13 @@ void extend_path_tracing(const geometry::Geometry& geometry, const image::Image&
   const auto rate = [&] { return seconds / double(spp); };
   std::vector<double> budgets = plan.budgets_minutes;
   std::sort(budgets.begin(), budgets.end());
+  // Doublings up to half the first budget: points between one sample and the first budget, where a model's error
+  // at a short budget falls and where `path_tracing_time_to` would otherwise interpolate over four decades of time.
+  // Their samples count towards the budget's image, so they cost only the passes' fixed overheads.
+  while (!budgets.empty() && !stop_requested() && seconds + rate() * double(spp) <= 0.5 * budgets.front() * 60.0) {
+    pass(spp);
+    add_point("progress", kNone);
+  }
   for (double minutes : budgets) {
     const bool done = std::any_of(rows.begin(), rows.end(), [&](const Row& r) {
       return r.kind == "path_tracing" && r.point == "budget" && r.budget_minutes == minutes;

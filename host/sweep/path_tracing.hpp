@@ -1,10 +1,11 @@
 #pragma once
 // The path tracer's row of a sweep: one progressive render of the reference path tracer, extended pass by pass,
 // each pass with its own seed so that the passes are independent and their spp-weighted mean is the image of all
-// their samples. Its points: one at each time budget (the spp of the pass that ends there chosen from the rate
-// measured so far, refined by further passes until within 5 % of it; the time measured), then passes that
-// double the samples until the image's MAPE reaches the best trained model's, or the next would pass a time cap. Every
-// point is a row of results.csv and an EXR under SWEEP_DIR/path_tracing, from which a rerun continues.
+// their samples. Its points: a timed pass of one sample, passes that double the samples up to half the first
+// budget, one point at each time budget (the spp of the pass that ends there chosen from the rate measured so far,
+// refined by further passes until within 5 % of it; the time measured), then passes that double the samples until
+// the image's MAPE reaches the best trained model's, or the next would pass a time cap. Every point is a row of
+// results.csv and an EXR under SWEEP_DIR/path_tracing, from which a rerun continues.
 #include <filesystem>
 #include <functional>
 #include <vector>

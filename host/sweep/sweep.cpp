@@ -65,7 +65,7 @@ image::Image reference_image(const geometry::Geometry& geometry, const SweepOpti
   return img;
 }
 
-// Runs bench/plot_sweep.py on SWEEP_DIR when python3 has matplotlib; the CSV and tables never depend on it.
+// Runs bench/plot_sweep.py on SWEEP_DIR when a python3 has matplotlib; the CSV and tables never depend on it.
 void draw_figures(const SweepOptions& o) {
   const auto spawn = [](std::vector<std::string> args, bool quiet) {
     std::vector<char*> argv;
@@ -84,12 +84,19 @@ void draw_figures(const SweepOptions& o) {
     return WIFEXITED(status) && WEXITSTATUS(status) == 0;
   };
   if (o.plot_script.empty()) return;
-  if (!spawn({"python3", "-c", "import matplotlib"}, true)) {
+  // python3-matplotlib installs for Debian's interpreter, which a pyenv or conda python3 first on PATH hides.
+  std::string python;
+  for (const char* candidate : {"python3", "/usr/bin/python3"})
+    if (spawn({candidate, "-c", "import matplotlib"}, true)) {
+      python = candidate;
+      break;
+    }
+  if (python.empty()) {
     std::printf("sweep: figures skipped: python3-matplotlib is missing (apt-get install python3-matplotlib)\n");
     return;
   }
   std::fflush(stdout);
-  if (!spawn({"python3", o.plot_script.string(), o.dir.string()}, false))
+  if (!spawn({python, o.plot_script.string(), o.dir.string()}, false))
     std::printf("sweep: figures failed: %s exited with an error (the tables are complete)\n", o.plot_script.c_str());
 }
 

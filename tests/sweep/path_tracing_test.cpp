@@ -1,5 +1,6 @@
-// The path tracer's progressive row on the bundled Cornell box at 16×16: points at the budgets, doubling towards a
-// model's error until the cap, and a second call that continues the same render. About 4 s.
+// The path tracer's progressive row on the bundled Cornell box at 16×16: doublings up to the first budget, points at
+// the budgets, doubling towards a model's error until the cap, and a second call that continues the same render.
+// About 4 s.
 #include "sweep/path_tracing.hpp"
 
 #include <gtest/gtest.h>
@@ -37,6 +38,9 @@ TEST(SweepPathTracing, BudgetsThenDoublingToTheCapAndAContinuation) {
   ASSERT_GE(rows.size(), 4u);
   EXPECT_EQ(saves, int(rows.size()));
   EXPECT_EQ(rows[0].spp, 1) << "the timed short render";
+  // Doublings fill the time before the first budget (one 16×16 sample takes well under a millisecond).
+  ASSERT_EQ(rows[1].point, "progress");
+  EXPECT_EQ(rows[1].spp, 2);
   std::vector<sweep::Row> budgets;
   for (const auto& r : rows)
     if (r.point == "budget") budgets.push_back(r);
