@@ -33,7 +33,7 @@ constexpr Preset kPresets[] = {
      "the paper's batch and width on GPUs"},
     {"quality", 10.0, 0, 4,
      "the defaults, for 10 minutes: width 256 on CPUs still beat 512 there; N = 32 took a third of the steps and "
-     "was no better for ISNR on Veach Bidir at 5 minutes (clradiosity sweep)"},
+     "was no better for ISNR on Veach Bidir at 5 and 10 minutes (clradiosity sweep)"},
 };
 
 // Hash-table entries the modelled surfaces occupy at the grid's finest level: a surface crosses about
