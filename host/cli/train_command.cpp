@@ -79,7 +79,7 @@ Command add_train_command(CLI::App& app) {
   cmd->add_option("--preset", opt->preset,
                   "preview, balanced or quality: batch, N, width and hash-table size picked for that budget, this "
                   "scene and device (printed, stored in config.json); flags override it")
-      ->check(CLI::IsMember({"preview", "balanced", "quality"}))
+      ->check(CLI::IsMember(radiosity::preset_names()))
       ->excludes(resume);
   add_device_option(*cmd, opt->device);
 

@@ -47,6 +47,15 @@ double surface_vertices(const SceneInputs& scene, const nn::HashGridConfig& grid
 
 }  // namespace
 
+const std::vector<std::string>& preset_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> v;
+    for (const auto& p : kPresets) v.emplace_back(p.name);
+    return v;
+  }();
+  return names;
+}
+
 std::vector<std::string> apply_preset(const std::string& name, TrainConfig& config, const SceneInputs& scene,
                                       const cl::DeviceInfo& device) {
   const auto* p =

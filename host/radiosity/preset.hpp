@@ -12,6 +12,9 @@
 
 namespace clr::radiosity {
 
+// The presets' names, in order of budget: preview, balanced, quality.
+const std::vector<std::string>& preset_names();
+
 // Applies preset `name` to `config` (its `network` overrides gain the width and the table size) and returns one
 // line per choice saying what and why. InputError for an unknown name.
 std::vector<std::string> apply_preset(const std::string& name, TrainConfig& config, const SceneInputs& scene,

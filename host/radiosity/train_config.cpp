@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "common/error.hpp"
+#include "radiosity/preset.hpp"
 
 namespace clr::radiosity {
 namespace {
@@ -44,7 +45,8 @@ void TrainConfig::validate() const {
   require(batch >= 0 && batch <= (1 << 22), "batch", batch, "in [1, 4194304] (0 = automatic)");
   require(std::max(batch, 1) * static_cast<long long>(samples) <= kMaxIncidentSamples, "batch × samples",
           std::max(batch, 1) * static_cast<long long>(samples), "at most 2^24 incident samples per step");
-  require(preset.empty() || preset == "preview" || preset == "balanced" || preset == "quality", "preset", preset,
+  const auto& presets = preset_names();
+  require(preset.empty() || std::find(presets.begin(), presets.end(), preset) != presets.end(), "preset", preset,
           "preview, balanced or quality");
   require(steps >= 0, "steps", steps, ">= 0");
   require(minutes >= 0 && std::isfinite(minutes), "minutes", minutes, ">= 0");

@@ -70,8 +70,6 @@ TEST_F(TrainCli, InterruptWritesACheckpointAndExitsCleanly) {
   EXPECT_EQ(r.exit_code, 0) << r.err;  // already past 1 step: resumes, writes the checkpoint, stops
 }
 
-// An ISNR run as a user meets it: the I-Module's view of a pixel, the residual under guided sampling, and the
-// errors of asking an NR run for its guide or giving impossible ISNR settings.
 TEST_F(TrainCli, EachPresetRunsAndRecordsItsChoice) {
   std::map<std::string, nlohmann::json> saved;
   for (const std::string preset : {"preview", "balanced", "quality"}) {
@@ -101,6 +99,8 @@ TEST_F(TrainCli, EachPresetRunsAndRecordsItsChoice) {
   EXPECT_FALSE(fs::exists(dir / "x"));
 }
 
+// An ISNR run as a user meets it: the I-Module's view of a pixel, the residual under guided sampling, and the
+// errors of asking an NR run for its guide or giving impossible ISNR settings.
 TEST_F(TrainCli, IsnrRunShowsItsGuide) {
   const std::string run = (dir / "isnr").string(), nr = (dir / "nr").string();
   auto r = run_cli("train " + kBox + " --steps 10 --config " + config + " -o " + run);
