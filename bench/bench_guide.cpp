@@ -16,7 +16,7 @@
 #include "common/pcg32.hpp"
 #include "geometry/geometry.hpp"
 #include "nn/probe_cache.hpp"
-#include "nn/vmf_mixture.hpp"
+#include "radiosity/guide/vmf_mixture.hpp"
 #include "radiosity/trainer.hpp"
 #include "scene/scene.hpp"
 
@@ -29,7 +29,7 @@ namespace fs = std::filesystem;
 // completion: where its share of a step goes.
 void print_stages(cl::Context& ctx, const nn::NetworkConfig& guide_config, std::size_t M, std::size_t N) {
   nn::Network guide(ctx, guide_config);
-  nn::VmfMixture vmf(ctx);
+  radiosity::VmfMixture vmf(ctx);
   Pcg32 rng(0, 3);
   const auto uniform = [&](std::size_t n, float lo, float hi) {
     std::vector<float> v(n);
@@ -41,7 +41,7 @@ void print_stages(cl::Context& ctx, const nn::NetworkConfig& guide_config, std::
       bsdf_pdf(ctx, std::span<const float>(uniform(M * N, 0.05f, 1.0f))), pdf(ctx, M * N), q(ctx, M * N),
       weight(ctx, std::span<const float>(uniform(M * N * 3, 0.0f, 1.0f))),
       emitted(ctx, std::span<const float>(uniform(M * N * 3, 0.0f, 0.1f))),
-      radiance(ctx, std::span<const float>(uniform(M * N * 3, 0.0f, 1.0f))), d_raw(ctx, M * nn::kVmfRaw),
+      radiance(ctx, std::span<const float>(uniform(M * N * 3, 0.0f, 1.0f))), d_raw(ctx, M * radiosity::kVmfRaw),
       scattered(ctx, std::span<const float>(uniform(M * 3, 0.1f, 1.0f)));
   std::vector<float> up(M * 3, 0.0f);
   for (std::size_t m = 0; m < M; ++m) up[3 * m + 2] = 1.0f;
@@ -92,9 +92,9 @@ int main(int argc, char** argv) {
   config.steps = 1000000;
   config.log_every = 1000000;
   config.checkpoint_every = 1000000;
-  config.method = "nr";
+  config.method = radiosity::Method::Nr;
   radiosity::Trainer nr(ctx, geometry, config, tmp / "nr", false);
-  config.method = "isnr";
+  config.method = radiosity::Method::Isnr;
   config.guide_warmup = 0.0;  // steps at the guided share the run settles at
   radiosity::Trainer isnr(ctx, geometry, config, tmp / "isnr", false);
   for (int i = 0; i < 5; ++i) {  // warm-up: program builds, buffer growth, the GEMM probe

@@ -1,4 +1,4 @@
-// Network engine benchmark (DESIGN.md §6): GEMM GFLOP/s per backend beside the device's measured FMA peak and
+// Network engine benchmark (docs/design.md §6): GEMM GFLOP/s per backend beside the device's measured FMA peak and
 // OpenBLAS SGEMM of the same shape; one N-Module training step beside the same step in PyTorch (bench/torch_anchor.py).
 // Usage: bench_nn [--json] [--device SPEC] [--quick]
 #include <cblas.h>
@@ -52,7 +52,7 @@ struct Peak {
 
 Peak fma_peak(cl::Context& ctx) {
   const std::size_t items = std::max<std::size_t>(ctx.device().compute_units, 1) * 1024;
-  const bool cpu = ctx.device().type == "cpu";
+  const bool cpu = ctx.device().type == cl::DeviceType::Cpu;
   cl::Buffer<float> out(ctx, items);
   Peak best;
   for (unsigned vw : {1u, 2u, 4u, 8u, 16u})
@@ -78,7 +78,7 @@ Peak fma_peak(cl::Context& ctx) {
 // since Haswell and Zen; GPUs report compute units, not the lanes in them, so there is no figure for them).
 // The reported clock is the base clock: a measured peak above this figure means the cores ran faster (turbo).
 double nominal_cpu_peak_gflops(const cl::DeviceInfo& d) {
-  if (d.type != "cpu") return 0;
+  if (d.type != cl::DeviceType::Cpu) return 0;
   cl_uint mhz = 0, width = 0;
   clGetDeviceInfo(d.device, CL_DEVICE_MAX_CLOCK_FREQUENCY, sizeof mhz, &mhz, nullptr);
   clGetDeviceInfo(d.device, CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT, sizeof width, &width, nullptr);
@@ -235,7 +235,7 @@ int main(int argc, char** argv) {
       std::printf("I-Module MLP inference, %zu rows: fused %.2f ms, per-layer GEMMs %.2f ms\n", rows, ms[1], ms[0]);
   }
 
-  // One N-Module training step (DESIGN.md §2): forward of B points, inference of N·B incident points, relative L2
+  // One N-Module training step (docs/design.md §2): forward of B points, inference of N·B incident points, relative L2
   // loss, backward, Adam over the MLP and the touched hash-grid entries.
   const std::size_t B = quick ? 4096 : 16384, N = 4;
   auto cfg = nn::n_module_config({0, 0, 0}, {1, 1, 1});

@@ -22,7 +22,7 @@ target_link_libraries(clr_deps INTERFACE OpenCL::OpenCL embree OpenEXR::OpenEXR 
 # GLM: radians everywhere, explicit constructors keep float/double mixing visible.
 target_compile_definitions(clr_deps INTERFACE GLM_FORCE_RADIANS GLM_FORCE_XYZW_ONLY)
 
-# MPI is optional (data-parallel training and distributed references, README "MPI"): on when found, and without
+# MPI is optional (data-parallel training and distributed references, docs/mpi.md): on when found, and without
 # it the build and every command behave as a single process. Only host/distributed/communicator_mpi.cpp sees
 # mpi.h, so switching it changes one object file rather than the whole library.
 find_package(MPI COMPONENTS C QUIET)

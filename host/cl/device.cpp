@@ -39,11 +39,11 @@ std::string lower(std::string s) {
   return s;
 }
 
-std::string type_name(cl_device_type t) {
-  if (t & CL_DEVICE_TYPE_GPU) return "gpu";
-  if (t & CL_DEVICE_TYPE_CPU) return "cpu";
-  if (t & CL_DEVICE_TYPE_ACCELERATOR) return "accelerator";
-  return "other";
+DeviceType device_type(cl_device_type t) {
+  if (t & CL_DEVICE_TYPE_GPU) return DeviceType::Gpu;
+  if (t & CL_DEVICE_TYPE_CPU) return DeviceType::Cpu;
+  if (t & CL_DEVICE_TYPE_ACCELERATOR) return DeviceType::Accelerator;
+  return DeviceType::Other;
 }
 
 bool has_extension(const std::string& extensions, const std::string& ext) {
@@ -64,7 +64,23 @@ std::optional<std::pair<unsigned, unsigned>> parse_indices(const std::string& sp
 
 }  // namespace
 
-std::string DeviceInfo::describe() const { return spec() + "  " + platform_name + " / " + name + " (" + type + ")"; }
+const char* type_name(DeviceType type) {
+  switch (type) {
+    case DeviceType::Cpu:
+      return "cpu";
+    case DeviceType::Gpu:
+      return "gpu";
+    case DeviceType::Accelerator:
+      return "accelerator";
+    case DeviceType::Other:
+      break;
+  }
+  return "other";
+}
+
+std::string DeviceInfo::describe() const {
+  return spec() + "  " + platform_name + " / " + name + " (" + type_name(type) + ")";
+}
 
 std::vector<DeviceInfo> list_devices() {
   cl_uint np = 0;
@@ -90,7 +106,7 @@ std::vector<DeviceInfo> list_devices() {
       info.platform_name = platform_string(platforms[pi], CL_PLATFORM_NAME);
       info.platform_vendor = platform_string(platforms[pi], CL_PLATFORM_VENDOR);
       info.name = device_string(d, CL_DEVICE_NAME);
-      info.type = type_name(device_value<cl_device_type>(d, CL_DEVICE_TYPE));
+      info.type = device_type(device_value<cl_device_type>(d, CL_DEVICE_TYPE));
       info.compute_units = device_value<cl_uint>(d, CL_DEVICE_MAX_COMPUTE_UNITS);
       info.global_mem_bytes = device_value<cl_ulong>(d, CL_DEVICE_GLOBAL_MEM_SIZE);
       info.max_alloc_bytes = device_value<cl_ulong>(d, CL_DEVICE_MAX_MEM_ALLOC_SIZE);
@@ -127,7 +143,7 @@ DeviceInfo select_device(const std::vector<DeviceInfo>& devices, const std::stri
   std::vector<const DeviceInfo*> matches;
   const auto pick = [&] { return *matches[nth % matches.size()]; };
   if (spec.empty()) {
-    for (const char* type : {"gpu", "cpu"}) {
+    for (const DeviceType type : {DeviceType::Gpu, DeviceType::Cpu}) {
       for (const auto& d : devices)
         if (d.type == type) matches.push_back(&d);
       if (!matches.empty()) return pick();
@@ -141,7 +157,7 @@ DeviceInfo select_device(const std::vector<DeviceInfo>& devices, const std::stri
   }
   const std::string needle = lower(spec);
   for (const auto& d : devices)
-    if (lower(d.platform_name + " " + d.platform_vendor + " " + d.name + " " + d.type).find(needle) !=
+    if (lower(d.platform_name + " " + d.platform_vendor + " " + d.name + " " + type_name(d.type)).find(needle) !=
         std::string::npos)
       matches.push_back(&d);
   if (!matches.empty()) return pick();

@@ -1,5 +1,5 @@
 #pragma once
-// Platform/device enumeration and the --device SPEC rule (DESIGN.md §4):
+// Platform/device enumeration and the --device SPEC rule (docs/design.md §4):
 //   "P:D"      platform and device indices, as `clradiosity devices` prints them;
 //   otherwise  a case-insensitive substring of the platform name or vendor, the device name or its type
 //              ("pocl" matches PoCL's vendor "The pocl project"; "nvidia", "cpu", "gpu").
@@ -13,6 +13,10 @@
 
 namespace clr::cl {
 
+enum class DeviceType { Cpu, Gpu, Accelerator, Other };
+// "cpu", "gpu", "accelerator", "other": as listings print it and --device SPEC matches it.
+const char* type_name(DeviceType type);
+
 struct DeviceInfo {
   unsigned platform_index = 0;
   unsigned device_index = 0;
@@ -21,13 +25,13 @@ struct DeviceInfo {
   std::string platform_name;
   std::string platform_vendor;
   std::string name;
-  std::string type;  // "cpu", "gpu", "accelerator" or "other"
+  DeviceType type = DeviceType::Other;
   unsigned compute_units = 0;
   std::uint64_t global_mem_bytes = 0;
   std::uint64_t max_alloc_bytes = 0;
   std::size_t max_work_group_size = 0;
   std::string opencl_c_version;
-  bool float_atomics = false;  // cl_ext_float_atomics; otherwise kernels use CAS loops (DESIGN.md §5)
+  bool float_atomics = false;  // cl_ext_float_atomics; otherwise kernels use CAS loops (docs/design.md §5)
   bool fp16 = false;           // cl_khr_fp16
 
   std::string spec() const { return std::to_string(platform_index) + ":" + std::to_string(device_index); }

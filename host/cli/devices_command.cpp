@@ -13,7 +13,7 @@ nlohmann::json to_json(const cl::DeviceInfo& d, bool is_default) {
   return {{"index", d.spec()},
           {"platform", d.platform_name},
           {"name", d.name},
-          {"type", d.type},
+          {"type", cl::type_name(d.type)},
           {"compute_units", d.compute_units},
           {"global_mem_bytes", d.global_mem_bytes},
           {"max_alloc_bytes", d.max_alloc_bytes},

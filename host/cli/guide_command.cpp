@@ -9,7 +9,8 @@
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "geometry/geometry.hpp"
-#include "radiosity/guide_view.hpp"
+#include "radiosity/guide/guide_view.hpp"
+#include "radiosity/run_directory.hpp"
 #include "radiosity/trained_model.hpp"
 #include "scene/scene.hpp"
 
@@ -75,8 +76,8 @@ Command add_guide_command(CLI::App& app) {
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
             const std::filesystem::path run = opt->model;
-            auto radiance = radiosity::load_network(ctx, run / "model.clr");
-            auto guide = radiosity::load_guide(ctx, run);
+            auto radiance = radiosity::RunDirectory::load_radiance(ctx, run);
+            auto guide = radiosity::RunDirectory::load_guide(ctx, run);
             const auto view = radiosity::view_guide(ctx, geometry, *radiance, *guide, std::floor(px) + 0.5f,
                                                     std::floor(py) + 0.5f, width, height, opt->resolution);
             image::write_png(opt->output, side_by_side(view, true));

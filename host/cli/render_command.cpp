@@ -11,6 +11,7 @@
 #include "common/error.hpp"
 #include "geometry/geometry.hpp"
 #include "image/image.hpp"
+#include "radiosity/run_directory.hpp"
 #include "radiosity/trained_model.hpp"
 #include "scene/scene.hpp"
 
@@ -66,9 +67,7 @@ Command add_render_command(CLI::App& app) {
             }
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
-            std::filesystem::path model = opt->model;
-            if (std::filesystem::is_directory(model)) model /= "model.clr";
-            auto network = radiosity::load_network(ctx, model);
+            auto network = radiosity::RunDirectory::load_radiance(ctx, opt->model);
             const auto img = radiosity::render(geometry, radiosity::radiance_query(ctx, *network), opt->settings);
             image::write_exr(opt->output, img);
             if (!opt->png.empty()) image::write_png(opt->png, img);

@@ -8,6 +8,7 @@
 #include "cli/number_checks.hpp"
 #include "geometry/geometry.hpp"
 #include "radiosity/residual.hpp"
+#include "radiosity/run_directory.hpp"
 #include "radiosity/train_config.hpp"
 #include "radiosity/trained_model.hpp"
 #include "scene/scene.hpp"
@@ -41,16 +42,14 @@ Command add_residual_command(CLI::App& app) {
             const auto scene = scene::load_scene(opt->scene);
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
-            std::filesystem::path model = opt->model;
-            if (std::filesystem::is_directory(model)) model /= "model.clr";
-            auto network = radiosity::load_network(ctx, model);
+            const std::filesystem::path model = opt->model;
+            auto network = radiosity::RunDirectory::load_radiance(ctx, model);
             std::unique_ptr<nn::Network> guide;
             float fraction = opt->bsdf_fraction;
             if (opt->sampling == "guide") {
-              const auto run = model.parent_path();
-              guide = radiosity::load_guide(ctx, run);
-              if (fraction < 0)
-                fraction = float(radiosity::load_train_config((run / "config.json").string()).bsdf_fraction);
+              const auto run = std::filesystem::is_directory(model) ? model : model.parent_path();
+              guide = radiosity::RunDirectory::load_guide(ctx, run);
+              if (fraction < 0) fraction = float(radiosity::RunDirectory::load_config(run).bsdf_fraction);
             }
             const auto r = radiosity::measure_residual(ctx, geometry, *network, opt->points, opt->samples, opt->seed,
                                                        guide.get(), fraction);

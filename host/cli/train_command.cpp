@@ -9,7 +9,6 @@
 #include "cli/command.hpp"
 #include "cli/number_checks.hpp"
 #include "common/error.hpp"
-#include "common/run_lock.hpp"
 #include "distributed/communicator.hpp"
 #include "geometry/geometry.hpp"
 #include "radiosity/preset.hpp"
@@ -90,9 +89,9 @@ Command add_train_command(CLI::App& app) {
             // (validate() judges); they are applied before the scene loads, to fail fast, and again over a preset.
             const auto given = [&](const char* flag) { return cmd->count(flag) > 0; };
             const auto apply_flags = [&] {
-              if (!opt->method.empty()) config.method = opt->method;
-              if (!opt->residual.empty()) config.residual = opt->residual;
-              if (!opt->is_loss.empty()) config.is_loss = opt->is_loss;
+              if (!opt->method.empty()) config.method = radiosity::parse_method(opt->method, "--method");
+              if (!opt->residual.empty()) config.residual = radiosity::parse_residual(opt->residual, "--residual");
+              if (!opt->is_loss.empty()) config.is_loss = radiosity::parse_is_loss(opt->is_loss, "--is-loss");
               if (given("--samples")) config.samples = opt->samples;
               if (given("--batch")) config.batch = opt->batch;
               if (given("--steps")) config.steps = opt->steps;
@@ -122,20 +121,20 @@ Command add_train_command(CLI::App& app) {
                 for (const auto& line : why) std::cerr << "preset " << opt->preset << ": " << line << "\n";
               apply_flags();
             }
-            std::optional<RunLock> lock;  // held until the run ends: one writer per RUN_DIR
-            if (ranks.rank() == 0) lock.emplace(opt->run_dir, !opt->resume);
             radiosity::Trainer trainer(ctx, geometry, config, opt->run_dir, opt->resume, ranks);
             const auto first_step = trainer.steps_done();
             if (ranks.rank() != 0) {
               trainer.run();
               return 0;
             }
-            std::cerr << "train: " << opt->scene << " on " << ctx.device().describe() << ", " << trainer.config().method
-                      << ", batch " << trainer.config().batch << " × " << trainer.config().samples << " samples, "
-                      << trainer.network().parameter_count() << " parameters";
+            std::cerr << "train: " << opt->scene << " on " << ctx.device().describe() << ", "
+                      << radiosity::to_string(trainer.config().method) << ", batch " << trainer.config().batch << " × "
+                      << trainer.config().samples << " samples, " << trainer.network().parameter_count()
+                      << " parameters";
             if (auto* guide = trainer.guide())
-              std::cerr << " + I-Module " << guide->parameter_count() << " (" << trainer.config().is_loss
-                        << ", BSDF share " << trainer.config().bsdf_fraction << ")";
+              std::cerr << " + I-Module " << guide->parameter_count() << " ("
+                        << radiosity::to_string(trainer.config().is_loss) << ", BSDF share "
+                        << trainer.config().bsdf_fraction << ")";
             if (ranks.distributed()) std::cerr << ", " << ranks.size() << " MPI ranks";
             std::cerr << "\n";
             trainer.run();

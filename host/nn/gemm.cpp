@@ -15,6 +15,33 @@ namespace {
 
 std::size_t ceil_div(std::size_t a, std::size_t b) { return (a + b - 1) / b; }
 
+// gemm_own's arguments by name (kernels/gemm.cl documents each): the plain, k-blocked and split-K products fill
+// them differently.
+struct OwnGemmArgs {
+  unsigned m, n, k;
+  float alpha;
+  const cl::Buffer<float>* a;
+  unsigned a_offset, a_row_stride, a_column_stride;
+  const cl::Buffer<float>* b;
+  unsigned b_offset, ldb;
+  float beta;
+  const cl::Buffer<float>* c;
+  unsigned c_offset, ldc;
+  unsigned k_slice, c_slice;  // split-K: the reduction length of one slice, the distance between slices' outputs
+  const cl::Buffer<float>* bias;
+  unsigned bias_offset, use_bias, act;
+  unsigned b_padded;  // B was transposed into a buffer padded by one tile (its reads need no bounds check)
+};
+
+void launch_own(cl::Kernel& kernel, const OwnGemmArgs& g, std::array<std::size_t, 2> global,
+                std::array<std::size_t, 2> local) {
+  kernel
+      .args(g.m, g.n, g.k, g.alpha, *g.a, g.a_offset, g.a_row_stride, g.a_column_stride, *g.b, g.b_offset, g.ldb,
+            g.beta, *g.c, g.c_offset, g.ldc, g.k_slice, g.c_slice, *g.bias, g.bias_offset, g.use_bias, g.act,
+            g.b_padded)
+      .launch(global, local);
+}
+
 }  // namespace
 
 unsigned u32(std::size_t v) {
@@ -40,10 +67,10 @@ std::string to_string(const GemmPlan& plan) {
 
 std::vector<GemmTile> gemm_tiles(const cl::DeviceInfo& device) {
   // CPUs: 8 rows × 2 float16 is 16 AVX-512 accumulators (half of its 32 registers); on AVX2 (16 registers of 8
-  // floats) the same tile is 32 registers and spills (59 GFLOP/s where OpenBLAS does 150), while 6 rows × 16 is
-  // 12 registers: the classic 6×16 micro-kernel, 120-135 GFLOP/s on a 2-core AVX2 EPYC. GPUs have ~255 scalar
-  // registers per thread and wide warps, so a 4 × 8 tile keeps occupancy up without spilling.
-  if (device.type == "cpu") return {{8, 16, 2}, {6, 16, 1}, {6, 8, 2}};
+  // floats) the same tile is 32 registers and spills, while 6 rows × 16 is 12 registers: the classic 6×16
+  // micro-kernel (figures: docs/results/benchmarks.md). GPUs have ~255 scalar registers per thread and wide warps,
+  // so a 4 × 8 tile keeps occupancy up without spilling.
+  if (device.type == cl::DeviceType::Cpu) return {{8, 16, 2}, {6, 16, 1}, {6, 8, 2}};
   return {{4, 4, 2}};
 }
 
@@ -99,7 +126,7 @@ void Gemm::run_own(Op op_a, Op op_b, std::size_t m, std::size_t n, std::size_t k
   const std::size_t tiles_n = ceil_div(n, plan_.tile.columns()), tiles_m = ceil_div(m, plan_.tile.tm);
   // Split-K when the output alone has too few tiles to fill the device (dW = dYᵀ·X: 512 × 512 outputs but a
   // reduction over the whole batch). CPUs want a few tiles per core, GPUs thousands of threads.
-  const bool cpu = ctx_->device().type == "cpu";
+  const bool cpu = ctx_->device().type == cl::DeviceType::Cpu;
   const std::size_t want_items = ctx_->device().compute_units * (cpu ? 16 : 2048);
   std::size_t slices =
       std::clamp<std::size_t>(ceil_div(want_items, tiles_n * tiles_m), 1, std::max<std::size_t>(1, k / 256));
@@ -108,38 +135,68 @@ void Gemm::run_own(Op op_a, Op op_b, std::size_t m, std::size_t n, std::size_t k
   slices = ceil_div(k, k_slice);
   const unsigned use_bias = epilogue.bias ? 1u : 0u;
   const cl::Buffer<float>& bias = epilogue.bias ? *epilogue.bias : *c.buf;
-  const std::size_t local0 = std::min<std::size_t>(tiles_n, cpu ? 16 : 16);
+  // A group is a row of up to 16 tiles side by side (they share their rows of A); GPUs stack 4 such rows for
+  // 64-work-item groups, two warps, while a CPU group is one core's work and one row keeps its A panel hot.
+  const std::size_t local0 = std::min<std::size_t>(tiles_n, 16);
   const std::size_t local1 = cpu ? 1 : 4;
+  const OwnGemmArgs plain{.m = u32(m),
+                          .n = u32(n),
+                          .k = u32(k),
+                          .alpha = alpha,
+                          .a = a.buf,
+                          .a_offset = u32(a.offset),
+                          .a_row_stride = u32(a_rs),
+                          .a_column_stride = u32(a_cs),
+                          .b = b.buf,
+                          .b_offset = u32(b.offset),
+                          .ldb = u32(b.ld),
+                          .beta = beta,
+                          .c = c.buf,
+                          .c_offset = u32(c.offset),
+                          .ldc = u32(c.ld),
+                          .k_slice = u32(std::max<std::size_t>(k, 1)),
+                          .c_slice = 0,
+                          .bias = &bias,
+                          .bias_offset = u32(epilogue.bias_offset),
+                          .use_bias = use_bias,
+                          .act = unsigned(epilogue.act),
+                          .b_padded = b_padded};
   // On a CPU a work-item streams its whole k range; for a long reduction (dW over a batch of 16k rows) the panels
-  // of A and B each work-item reads are far bigger than the caches and every tile re-reads them from memory
-  // (measured: 40 GFLOP/s instead of 260 at 16384 × 512 × 512). Cutting k into blocks run one launch after the
-  // other, accumulating into C with beta = 1, keeps each block's panels (kCpuKBlock × (m + n) floats, 512 KiB at
-  // m = n = 512) in cache while all tiles read them: 350 GFLOP/s with 128-row blocks (256: 170, 1024: 100 on the
-  // 2-core CI machine). Deterministic, and no partial-sum buffer.
+  // of A and B each work-item reads are far bigger than the caches and every tile re-reads them from memory.
+  // Cutting k into blocks run one launch after the other, accumulating into C with beta = 1, keeps each block's
+  // panels (kCpuKBlock × (m + n) floats, 512 KiB at m = n = 512) in cache while all tiles read them; 128 rows beat
+  // 256 and 1024 (docs/results/benchmarks.md). Deterministic, and no partial-sum buffer.
   constexpr std::size_t kCpuKBlock = 128;
   if (cpu && slices == 1 && k > 2 * kCpuKBlock && !use_bias && epilogue.act == Act::None) {
     for (std::size_t k0 = 0; k0 < k; k0 += kCpuKBlock) {
-      const std::size_t kb = std::min(kCpuKBlock, k - k0);
-      gemm_->args(u32(m), u32(n), u32(kb), alpha, *a.buf, u32(a.offset + k0 * a_cs), u32(a_rs), u32(a_cs), *b.buf,
-                  u32(b.offset + k0 * b.ld), u32(b.ld), k0 == 0 ? beta : 1.0f, *c.buf, u32(c.offset), u32(c.ld),
-                  u32(kb), 0u, bias, 0u, 0u, 0u, b_padded);
-      gemm_->launch({tiles_n, tiles_m}, {local0, local1});
+      OwnGemmArgs block = plain;
+      block.k = block.k_slice = u32(std::min(kCpuKBlock, k - k0));
+      block.a_offset = u32(a.offset + k0 * a_cs);
+      block.b_offset = u32(b.offset + k0 * b.ld);
+      if (k0 > 0) block.beta = 1.0f;
+      launch_own(*gemm_, block, {tiles_n, tiles_m}, {local0, local1});
     }
     return;
   }
   if (slices == 1) {
-    gemm_->args(u32(m), u32(n), u32(k), alpha, *a.buf, u32(a.offset), u32(a_rs), u32(a_cs), *b.buf, u32(b.offset),
-                u32(b.ld), beta, *c.buf, u32(c.offset), u32(c.ld), u32(std::max<std::size_t>(k, 1)), 0u, bias,
-                u32(epilogue.bias_offset), use_bias, unsigned(epilogue.act), b_padded);
-    gemm_->launch({tiles_n, tiles_m}, {local0, local1});
+    launch_own(*gemm_, plain, {tiles_n, tiles_m}, {local0, local1});
     return;
   }
   if (use_bias || epilogue.act != Act::None)
     throw std::logic_error("gemm: split-K products take no epilogue (only weight gradients are split)");
-  auto& p = scratch(partials_, slices * m * n);
-  gemm_->args(u32(m), u32(n), u32(k), 1.0f, *a.buf, u32(a.offset), u32(a_rs), u32(a_cs), *b.buf, u32(b.offset),
-              u32(b.ld), 0.0f, p, 0u, u32(n), u32(k_slice), u32(m * n), p, 0u, 0u, 0u, b_padded);
-  gemm_->launch({tiles_n, tiles_m * slices}, {local0, local1});
+  // Each slice writes its partial product to its own m × n block of the scratch buffer; gemm_reduce_slices sums.
+  OwnGemmArgs split = plain;
+  split.alpha = 1.0f;
+  split.beta = 0.0f;
+  split.c = &scratch(partials_, slices * m * n);
+  split.c_offset = 0;
+  split.ldc = u32(n);
+  split.k_slice = u32(k_slice);
+  split.c_slice = u32(m * n);
+  split.bias = split.c;
+  split.bias_offset = 0;
+  launch_own(*gemm_, split, {tiles_n, tiles_m * slices}, {local0, local1});
+  auto& p = *split.c;
   reduce_->args(u32(m), u32(n), u32(slices), p, alpha, beta, *c.buf, u32(c.offset), u32(c.ld)).launch({n, m}, {16, 4});
 }
 

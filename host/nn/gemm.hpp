@@ -1,5 +1,5 @@
 #pragma once
-// Matrix products for the networks, on one of two backends chosen per device (DESIGN.md §6):
+// Matrix products for the networks, on one of two backends chosen per device (docs/design.md §6):
 //   own      kernels/gemm.cl, register-blocked without local memory: fast on PoCL's CPU device;
 //   clblast  CLBlast's tuned kernels on our cl_mem and queue: fast on GPUs, untuned (slow) on PoCL.
 // The own kernel's register tile must fit the vector register file, which differs between CPUs (AVX-512: 32 × 16

@@ -68,27 +68,6 @@ NetworkConfig n_module_config(const std::array<float, 3>& lo, const std::array<f
   return c;
 }
 
-NetworkConfig i_module_config(const std::array<float, 3>& lo, const std::array<float, 3>& hi) {
-  NetworkConfig c;
-  c.encoder.grid->bbox_lo = lo;
-  c.encoder.grid->bbox_hi = hi;
-  c.encoder.albedo = false;
-  c.encoder.roughness = true;
-  // A coarser, smaller grid than the N-Module's (12 levels, 2^18): the incident light's directional
-  // distribution varies more slowly over the surfaces than radiance does, and the I-Module must stay a small
-  // share of a step. 4 levels of 16, 35, 77, 170 cells across the scene: against 8 levels to 273 cells it halved
-  // the I-Module's backward and, trained alone on Veach Bidir, cut the RHS variance further (1000 steps: 162
-  // against 239; BSDF sampling 899).
-  c.encoder.grid->levels = 4;
-  c.encoder.grid->growth = 2.2f;
-  c.encoder.grid->log2_table = 16;
-  c.width = 64;
-  c.hidden_layers = 3;
-  c.outputs = 32;
-  c.output_activation = OutputActivation::None;
-  return c;
-}
-
 nlohmann::json to_json(const NetworkConfig& c) {
   nlohmann::json enc = {{"sh_direction", c.encoder.sh_direction},
                         {"sh_normal", c.encoder.sh_normal},
@@ -168,6 +147,12 @@ void validate(const NetworkConfig& c) {
 }
 
 }  // namespace
+
+NetworkConfig merge_patch(const NetworkConfig& base, const nlohmann::json& patch) {
+  nlohmann::json j = to_json(base);
+  j.merge_patch(patch);
+  return network_config_from_json(j);
+}
 
 NetworkConfig network_config_from_json(const nlohmann::json& j) {
   NetworkConfig c;

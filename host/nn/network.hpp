@@ -1,6 +1,6 @@
 #pragma once
 // A trainable network = input encoder (hash grid, SH, raw features) + MLP, each with its Adam state.
-// The trainer's view (DESIGN.md §2): raw inputs [rows × kRawInputs] on the device in, outputs [rows × outputs] out.
+// The trainer's view (docs/design.md §2): raw inputs [rows × kRawInputs] on the device in, outputs [rows × outputs] out.
 //   NetworkContext c;  net.forward_train(raw, rows, c);   // c.output(): predictions, activations kept
 //   net.backward(c, d_output);                             // accumulates parameter gradients
 //   net.adam_step();                                       // updates and clears them
@@ -37,8 +37,6 @@ struct NetworkConfig {
 
 // ISNR §4.3: N-Module = hash grid + SH(ω_o) + SH(n) + albedo → 4 × 512 ReLU → 3, abs (non-negative radiance).
 NetworkConfig n_module_config(const std::array<float, 3>& bbox_lo, const std::array<float, 3>& bbox_hi);
-// I-Module = hash grid (4 levels, 2^16) + SH(ω_o) + SH(n) + roughness → 3 × 64 ReLU → 32 raw outputs (8 vMF lobes).
-NetworkConfig i_module_config(const std::array<float, 3>& bbox_lo, const std::array<float, 3>& bbox_hi);
 
 nlohmann::json to_json(const NetworkConfig& c);
 
@@ -47,6 +45,8 @@ nlohmann::json to_json(const NetworkConfig& c);
 std::size_t mlp_parameter_count(const NetworkConfig& c);
 std::size_t grid_parameter_count(const NetworkConfig& c);
 NetworkConfig network_config_from_json(const nlohmann::json& j);  // throws InputError naming a bad entry
+// `base` with a JSON merge patch (RFC 7396) applied: a user's overrides of a module's defaults.
+NetworkConfig merge_patch(const NetworkConfig& base, const nlohmann::json& patch);
 
 struct NetworkContext {
   std::size_t rows = 0;

@@ -70,7 +70,7 @@ std::vector<std::string> apply_preset(const std::string& name, TrainConfig& conf
     why.emplace_back(line);
   }
   // GPUs take the defaults (the paper's batch and width): no GPU has measured other choices yet.
-  const bool gpu = device.type == "gpu";
+  const bool gpu = device.type == cl::DeviceType::Gpu;
   config.batch = gpu || p->cpu_batch == 0 ? default_batch(device) : p->cpu_batch;
   config.samples = p->samples;
   const std::size_t width = default_width(device);

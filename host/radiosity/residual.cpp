@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "cl/buffer.hpp"
-#include "radiosity/incident_sampling.hpp"
+#include "radiosity/guide/incident_sampling.hpp"
 
 namespace clr::radiosity {
 
@@ -23,7 +23,7 @@ void estimate_rhs(cl::Context& ctx, const geometry::Geometry& geometry, nn::Netw
     const std::size_t M = batch.points;
     cl::Buffer<float> point_rows(ctx, std::span<const float>(batch.point_rows)), lobes;
     if (guide) {
-      lobes = cl::Buffer<float>(ctx, M * nn::kVmfRaw);
+      lobes = cl::Buffer<float>(ctx, M * kVmfRaw);
       guide->infer(point_rows, M, lobes);
     }
     incident.sample(geometry, settings, seed, step, guide ? &lobes : nullptr, batch);

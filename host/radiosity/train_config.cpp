@@ -29,18 +29,56 @@ void require(bool ok, const char* name, const T& value, const char* rule) {
 }
 
 // Each incident sample of a step is one row of kRawInputs = 13 floats in one device buffer; 2^24 rows (872 MB)
-// keep that buffer under PoCL's 1 GiB cap on a single allocation (DESIGN.md §5).
+// keep that buffer under PoCL's 1 GiB cap on a single allocation (docs/design.md §5).
 constexpr long long kMaxIncidentSamples = 1LL << 24;
+
+template <typename E, std::size_t N>
+E parse_name(std::string_view text, std::string_view key, const std::pair<E, const char*> (&names)[N]) {
+  std::string known;
+  for (const auto& [value, name] : names) {
+    if (text == name) return value;
+    known += (known.empty() ? "" : " or ") + std::string(name);
+  }
+  throw InputError(std::string(key) + " must be " + known + ", got \"" + std::string(text) + "\"");
+}
+
+template <typename E, std::size_t N>
+const char* name_of(E value, const std::pair<E, const char*> (&names)[N]) {
+  for (const auto& [v, name] : names)
+    if (v == value) return name;
+  return "?";
+}
+
+constexpr std::pair<Method, const char*> kMethods[] = {{Method::Isnr, "isnr"}, {Method::Nr, "nr"}};
+constexpr std::pair<IsLoss, const char*> kIsLosses[] = {{IsLoss::Ikl, "ikl"}, {IsLoss::Kl, "kl"}};
+constexpr std::pair<Residual, const char*> kResiduals[] = {{Residual::Relative, "relative"}, {Residual::L2, "l2"}};
+
+// A mode in JSON is one of its names; anything else (another type included) is an InputError naming the key.
+template <typename E, std::size_t N>
+E from_json_name(const nlohmann::json& j, const char* key, const std::pair<E, const char*> (&names)[N]) {
+  if (!j.is_string()) return parse_name(j.dump(), key, names);
+  return parse_name(j.get_ref<const std::string&>(), key, names);
+}
 
 }  // namespace
 
+const char* to_string(Method m) { return name_of(m, kMethods); }
+const char* to_string(IsLoss l) { return name_of(l, kIsLosses); }
+const char* to_string(Residual r) { return name_of(r, kResiduals); }
+Method parse_method(std::string_view text, std::string_view key) { return parse_name(text, key, kMethods); }
+IsLoss parse_is_loss(std::string_view text, std::string_view key) { return parse_name(text, key, kIsLosses); }
+Residual parse_residual(std::string_view text, std::string_view key) { return parse_name(text, key, kResiduals); }
+void to_json(nlohmann::json& j, Method m) { j = to_string(m); }
+void from_json(const nlohmann::json& j, Method& m) { m = from_json_name(j, "method", kMethods); }
+void to_json(nlohmann::json& j, IsLoss l) { j = to_string(l); }
+void from_json(const nlohmann::json& j, IsLoss& l) { l = from_json_name(j, "is_loss", kIsLosses); }
+void to_json(nlohmann::json& j, Residual r) { j = to_string(r); }
+void from_json(const nlohmann::json& j, Residual& r) { r = from_json_name(j, "residual", kResiduals); }
+
 void TrainConfig::validate() const {
-  require(method == "isnr" || method == "nr", "method", method, "isnr or nr");
-  require(is_loss == "ikl" || is_loss == "kl", "is_loss", is_loss, "ikl or kl");
   // c = 0 would never draw a delta lobe (its share of p̃ is c): the estimate would lose that light.
   require(bsdf_fraction > 0 && bsdf_fraction <= 1, "bsdf_fraction", bsdf_fraction, "in (0, 1]");
   require(guide_warmup >= 0 && guide_warmup <= 1, "guide_warmup", guide_warmup, "in [0, 1]");
-  require(residual == "relative" || residual == "l2", "residual", residual, "relative or l2");
   require(samples >= 1 && samples <= 1024, "samples", samples, "in [1, 1024]");
   require(batch >= 0 && batch <= (1 << 22), "batch", batch, "in [1, 4194304] (0 = automatic)");
   require(std::max(batch, 1) * static_cast<long long>(samples) <= kMaxIncidentSamples, "batch × samples",
@@ -70,7 +108,7 @@ double TrainConfig::bsdf_fraction_at(double progress) const {
 }
 
 double TrainConfig::relative_power(double progress) const {
-  if (residual == "l2") return 0.0;
+  if (residual == Residual::L2) return 0.0;
   if (relative_fade_end <= 0) return 1.0;
   return std::max(0.0, 1.0 - progress / relative_fade_end);
 }

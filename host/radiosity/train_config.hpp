@@ -6,24 +6,46 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 
 namespace clr::radiosity {
 
+// Isnr: the N-Module trained with directions from the one-sample mixture of the BSDF and the jointly trained
+// I-Module (ISNR §4); Nr: BSDF sampling only (vanilla Neural Radiosity, the "w/o I-Module" ablation).
+enum class Method { Isnr, Nr };
+// The I-Module's loss: Improved KL (Eq. 18/20) or KL (Eq. 17).
+enum class IsLoss { Ikl, Kl };
+// Relative: r²/(sg(L)²+0.01)^power (TrainConfig::relative_power); L2: r² (paper Eq. 10).
+enum class Residual { Relative, L2 };
+
+// The modes' names in config.json, on the command line and in messages ("isnr", "ikl", "relative", …); parsing
+// an unknown name is an InputError naming `key` and the names there are.
+const char* to_string(Method m);
+const char* to_string(IsLoss l);
+const char* to_string(Residual r);
+Method parse_method(std::string_view text, std::string_view key = "method");
+IsLoss parse_is_loss(std::string_view text, std::string_view key = "is_loss");
+Residual parse_residual(std::string_view text, std::string_view key = "residual");
+void to_json(nlohmann::json& j, Method m);
+void from_json(const nlohmann::json& j, Method& m);
+void to_json(nlohmann::json& j, IsLoss l);
+void from_json(const nlohmann::json& j, IsLoss& l);
+void to_json(nlohmann::json& j, Residual r);
+void from_json(const nlohmann::json& j, Residual& r);
+
 struct TrainConfig {
-  // "isnr": the N-Module trained with directions from the one-sample mixture of the BSDF and the jointly trained
-  // I-Module (ISNR §4); "nr": BSDF sampling only (vanilla Neural Radiosity, the "w/o I-Module" ablation).
-  std::string method = "isnr";
-  std::string is_loss = "ikl";  // the I-Module's loss: "ikl" (Improved KL, Eq. 18/20) or "kl" (Eq. 17)
+  Method method = Method::Isnr;
+  IsLoss is_loss = IsLoss::Ikl;
   double bsdf_fraction = 0.5;  // c in p̃ = c·p_bsdf + (1 − c)·q (isnr); the defensive share keeps variance bounded
   // The guide's warm-up (isnr): over this fraction of the budget the guided share 1 − c rises linearly from 0 to
   // 1 − bsdf_fraction. The I-Module learns from the BSDF's samples meanwhile; an untrained guide only adds
   // variance, which the N-Module then fits.
   double guide_warmup = 0.1;
-  std::string residual = "relative";  // "relative": r²/(sg(L)²+0.01)^power (below); "l2": r² (paper Eq. 10)
-  int samples = 4;                    // N incident directions per point
-  int batch = 0;                      // M points per step; 0 = chosen for the device
-  long steps = 0;                     // stop after this many steps in total (0 = no step limit)
-  double minutes = 0;                 // stop after this much wall time in this session (0 = no time limit)
+  Residual residual = Residual::Relative;
+  int samples = 4;     // N incident directions per point
+  int batch = 0;       // M points per step; 0 = chosen for the device
+  long steps = 0;      // stop after this many steps in total (0 = no step limit)
+  double minutes = 0;  // stop after this much wall time in this session (0 = no time limit)
   std::uint64_t seed = 1;
   // The budget preset the run was set up with ("" for none; radiosity/preset.hpp): its choices are already in
   // the settings here, the name records where they came from.
@@ -38,17 +60,17 @@ struct TrainConfig {
   // dark regions like bright ones, but it barely resists a solution scaled up as a whole (its pull is 2r/L²) and
   // the emitters that anchor the scale are found rarely: on Veach Ajar it ran away to a white image. The L2 part
   // pulls the scale back; reaching plain L2 only at the end (rather than by 80 % of the budget) keeps enough of
-  // the relative pull on dark regions for short budgets (README: "Training time against accuracy").
+  // the relative pull on dark regions for short budgets (docs/method.md; docs/results/nr-training.md).
   double relative_fade_end = 1.0;
   long log_every = 25;  // rows of log.csv
   long checkpoint_every = 500;
   // Overrides of the N-Module's settings (encoder, MLP, Adam, gemm backend) as a JSON merge patch over the
   // scene's defaults; a run's config.json stores the complete result.
   nlohmann::json network = nlohmann::json::object();
-  // The same for the I-Module (isnr), over nn::i_module_config; its Adam learning rate is guide.adam.learning_rate.
+  // The same for the I-Module (isnr), over i_module_config; its Adam learning rate is guide.adam.learning_rate.
   nlohmann::json guide = nlohmann::json::object();
 
-  bool guided() const { return method == "isnr"; }
+  bool guided() const { return method == Method::Isnr; }
 
   // The factor on the learning rate once `progress` ∈ [0, 1] of the budget is spent.
   double learning_rate_scale(double progress) const;

@@ -1,7 +1,5 @@
 #include "radiosity/trained_model.hpp"
 
-#include <fstream>
-
 #include "cl/buffer.hpp"
 #include "common/error.hpp"
 #include "nn/checkpoint.hpp"
@@ -41,30 +39,13 @@ std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesyste
   return network;
 }
 
-std::unique_ptr<nn::Network> load_guide(cl::Context& ctx, const std::filesystem::path& run_dir) {
-  const auto config_path = run_dir / "config.json";
-  std::ifstream in(config_path);
-  if (!in) throw InputError("cannot read " + config_path.string());
-  nlohmann::json config;
-  try {
-    config = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError("malformed JSON in " + config_path.string() + ": " + e.what());
-  }
-  if (config.value("method", "nr") != "isnr" || !config.contains("guide"))
-    throw InputError(run_dir.string() + " was trained without an I-Module (method nr): there is no guide to read");
-  const auto model = (run_dir / "model.clr").string();
-  const nn::Checkpoint c = nn::read_checkpoint(model);
-  nn::NetworkConfig guide_config;
-  try {
-    guide_config = nn::network_config_from_json(config.at("guide"));
-  } catch (const InputError& e) {
-    throw InputError(config_path.string() + ": guide: " + e.what());
-  }
-  require_tensors(c, model, guide_config, "guide.");
-  auto guide = std::make_unique<nn::Network>(ctx, guide_config);
-  guide->restore(c, model, "guide.");
-  return guide;
+std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesystem::path& checkpoint,
+                                          const nn::NetworkConfig& config, const std::string& prefix) {
+  const nn::Checkpoint c = nn::read_checkpoint(checkpoint.string());
+  require_tensors(c, checkpoint.string(), config, prefix);
+  auto network = std::make_unique<nn::Network>(ctx, config);
+  network->restore(c, checkpoint.string(), prefix);
+  return network;
 }
 
 RadianceQuery radiance_query(cl::Context& ctx, nn::Network& network) {

@@ -12,9 +12,10 @@ namespace clr::radiosity {
 // missing, damaged or of another version).
 std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesystem::path& checkpoint);
 
-// The I-Module of an ISNR run: its config from RUN_DIR/config.json, its tensors from RUN_DIR/model.clr. InputError
-// when the run was trained without one (method nr) or its files are missing or damaged.
-std::unique_ptr<nn::Network> load_guide(cl::Context& ctx, const std::filesystem::path& run_dir);
+// A network of `config` whose tensors are stored under `prefix` in the checkpoint (the I-Module's, beside the
+// N-Module's; run_directory.hpp reads its config from the run).
+std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesystem::path& checkpoint,
+                                          const nn::NetworkConfig& config, const std::string& prefix);
 
 // Host rows in, host RGB out: uploads, infers in the network's chunks, reads back.
 RadianceQuery radiance_query(cl::Context& ctx, nn::Network& network);

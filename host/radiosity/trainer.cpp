@@ -14,34 +14,18 @@
 #include "common/stop_signal.hpp"
 #include "distributed/share.hpp"
 #include "nn/checkpoint.hpp"
+#include "radiosity/guide/i_module.hpp"
 #include "radiosity/radiance_scale.hpp"
 #include "radiosity/scene_inputs.hpp"
 #include "radiosity/trained_model.hpp"
 
 namespace clr::radiosity {
 namespace fs = std::filesystem;
-namespace {
+namespace {}  // namespace
 
-constexpr const char* kLogHeader = "step,seconds,loss,lookups,non_finite,learning_rate,residual_power";
-constexpr const char* kGuideLogColumns = ",guide_loss,guided_share";  // isnr runs only
+int default_batch(const cl::DeviceInfo& device) { return device.type == cl::DeviceType::Gpu ? 16384 : 4096; }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError("cannot read " + path.string());
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-nn::NetworkConfig patched(const nn::NetworkConfig& base, const nlohmann::json& patch) {
-  nlohmann::json j = nn::to_json(base);
-  j.merge_patch(patch);
-  return nn::network_config_from_json(j);
-}
-
-}  // namespace
-
-int default_batch(const cl::DeviceInfo& device) { return device.type == "gpu" ? 16384 : 4096; }
-
-std::size_t default_width(const cl::DeviceInfo& device) { return device.type == "gpu" ? 512 : 256; }
+std::size_t default_width(const cl::DeviceInfo& device) { return device.type == cl::DeviceType::Gpu ? 512 : 256; }
 
 nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
                                           const TrainConfig& config, const cl::DeviceInfo& device) {
@@ -51,36 +35,8 @@ nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, co
   base.encoder.albedo = in.albedo_varies;
   base.output_scale = radiance_scale(geometry.scene());
   base.seed = config.seed;
-  return patched(base, config.network);
+  return nn::merge_patch(base, config.network);
 }
-
-nn::NetworkConfig guide_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
-                                       const TrainConfig& config) {
-  const SceneInputs in = scene_inputs(geometry, sampler);
-  nn::NetworkConfig base = nn::i_module_config(in.lo, in.hi);
-  base.encoder.roughness = in.roughness_varies;
-  base.seed = config.seed + 1;  // apart from the N-Module's initial parameters
-  return patched(base, config.guide);
-}
-
-namespace {
-
-// A run killed (SIGKILL, power loss) while writing leaves write_atomically's temporary ("model.clr.tmp<pid>")
-// beside the intact file. The caller holds the run's lock, so no live writer owns one: they are removed on resume
-// rather than left to pile up, one per kill.
-void remove_stale_temporaries(const fs::path& run_dir) {
-  for (const auto& entry : fs::directory_iterator(run_dir)) {
-    const std::string name = entry.path().filename().string();
-    for (const char* base : {"model.clr.tmp", "config.json.tmp", "log.csv.tmp"})
-      if (name.rfind(base, 0) == 0 && name.size() > std::strlen(base) &&
-          name.find_first_not_of("0123456789", std::strlen(base)) == std::string::npos && entry.is_regular_file()) {
-        std::error_code ec;
-        fs::remove(entry.path(), ec);
-      }
-  }
-}
-
-}  // namespace
 
 Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConfig config, fs::path run_dir,
                  bool resume, const distributed::Communicator& ranks)
@@ -88,51 +44,34 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
       geometry_(&geometry),
       sampler_(geometry.scene()),
       config_(std::move(config)),
-      run_dir_(std::move(run_dir)),
       loss_(ctx),
       incident_(ctx),
       non_finite_(ctx, 1),
       rhs_kernel_(ctx.program({"radiosity.cl"}).kernel("incident_rhs")),
       exchange_(ctx, ranks) {
-  const fs::path model = run_dir_ / "model.clr";
-  if (!writes_run_dir()) {
+  if (ranks.rank() != 0) {
     // Rank 0's config and networks arrive in share_rank0_state.
   } else if (resume) {
-    if (!fs::exists(model)) throw InputError("--resume: no checkpoint " + model.string());
-    remove_stale_temporaries(run_dir_);
-    // The run's own settings win; only the stopping rule comes from this invocation. A run written before ISNR
-    // existed has no `method` in its config.json: it was vanilla NR.
-    nlohmann::json saved_json = nlohmann::json::parse(read_text(run_dir_ / "config.json"));
-    if (!saved_json.contains("method")) saved_json["method"] = "nr";
-    TrainConfig saved = parse_train_config(saved_json);
+    run_ = RunDirectory::resume(run_dir);
+    // The run's own settings win; only the stopping rule comes from this invocation.
+    TrainConfig saved = run_->config();
     saved.steps = config_.steps;
     saved.minutes = config_.minutes;
     config_ = saved;
-    network_ = load_network(ctx, model);
-    if (config_.guided()) guide_ = load_guide(ctx, run_dir_);
+    network_ = RunDirectory::load_radiance(ctx, run_dir);
+    if (config_.guided()) guide_ = RunDirectory::load_guide(ctx, run_dir);
     // The log's last row carries the training time so far, so resumed rows continue its time axis.
-    std::istringstream log(read_text(run_dir_ / "log.csv"));
-    std::string line, last;
-    while (std::getline(log, line))
-      if (!line.empty()) last = line;
-    if (const auto comma = last.find(','); comma != std::string::npos && std::isdigit((unsigned char)last[0]))
-      seconds_before_ = std::stod(last.substr(comma + 1));
+    seconds_before_ = run_->seconds_trained();
   } else {
-    if (fs::exists(run_dir_) && !fs::is_empty(run_dir_))
-      throw InputError("run directory " + run_dir_.string() + " is not empty (use --resume to continue it)");
+    run_ = RunDirectory::create(run_dir);
     if (config_.batch == 0) config_.batch = default_batch(ctx.device());
     config_.network = nn::to_json(radiance_network_config(geometry, sampler_, config_, ctx.device()));
     network_ = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config_.network));
     if (config_.guided()) {
       config_.guide = nn::to_json(guide_network_config(geometry, sampler_, config_));
-      if (config_.guide["outputs"] != nn::kVmfRaw)
-        throw InputError("guide.outputs must be " + std::to_string(nn::kVmfRaw) + " (8 vMF lobes × 4), got " +
-                         config_.guide["outputs"].dump());
       guide_ = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config_.guide));
     }
-    fs::create_directories(run_dir_);
-    write_text_atomically(run_dir_ / "config.json", nlohmann::json(config_).dump(2) + "\n");
-    write_text_atomically(run_dir_ / "log.csv", std::string(kLogHeader) + (guide_ ? kGuideLogColumns : "") + "\n");
+    run_->start(config_);
   }
   share_rank0_state();
   residual_power_ = float(config_.relative_power(0.0));
@@ -178,7 +117,7 @@ StepStats Trainer::step() {
   }
   if (guide_) {
     // The I-Module learns from the same samples and the N-Module's radiance before its update (sg(L_α)).
-    cl::reserve(*ctx_, d_lobes_, M * nn::kVmfRaw);
+    cl::reserve(*ctx_, d_lobes_, M * kVmfRaw);
     // F from the N-Module at the points: the forward above kept its raw outputs (radiance / output scale); a held
     // N-Module ran no forward.
     float scale = network_->config().output_scale;
@@ -188,8 +127,8 @@ StepStats Trainer::step() {
       scale = 1.0f;
     }
     const cl::Buffer<float>& scattered = hold_radiance_ ? point_radiance_ : train_ctx_.output();
-    incident_.vmf().loss(incident_.guide_samples(incident_radiance_, scattered, scale), N, config_.is_loss == "ikl",
-                         d_lobes_, std::size_t(config_.batch));
+    incident_.vmf().loss(incident_.guide_samples(incident_radiance_, scattered, scale), N,
+                         config_.is_loss == IsLoss::Ikl, d_lobes_, std::size_t(config_.batch));
     guide_->backward(guide_ctx_, d_lobes_);
     exchange_.reduce(*guide_);
     guide_->adam_step();
@@ -200,30 +139,12 @@ StepStats Trainer::step() {
   return stats;
 }
 
-namespace {
-void write_model(const nn::Network& network, const nn::Network* guide, std::uint64_t seed, const fs::path& path) {
-  nn::Checkpoint c = network.checkpoint(std::to_string(seed));
-  if (guide) guide->add_tensors(c, "guide.");
-  nn::write_checkpoint(path.string(), c);
-}
-}  // namespace
-
 void Trainer::save_checkpoint() const {
-  if (writes_run_dir()) write_model(*network_, guide_.get(), config_.seed, run_dir_ / "model.clr");
+  if (run_) run_->save_model(*network_, guide_.get());
 }
 
 void Trainer::save_snapshot(const fs::path& dir) const {
-  if (!writes_run_dir()) return;
-  fs::create_directories(dir);
-  write_text_atomically(dir / "config.json", nlohmann::json(config_).dump(2) + "\n");
-  write_model(*network_, guide_.get(), config_.seed, dir / "model.clr");
-}
-
-void Trainer::append_log(const std::string& line) const {
-  if (!writes_run_dir()) return;
-  std::ofstream out(run_dir_ / "log.csv", std::ios::app);
-  out << line << "\n";
-  if (!out) throw std::runtime_error("cannot append to " + (run_dir_ / "log.csv").string());
+  if (run_) RunDirectory::write_snapshot(dir, config_, *network_, guide_.get());
 }
 
 void Trainer::run(const RunOptions& options) {
@@ -272,19 +193,18 @@ void Trainer::run(const RunOptions& options) {
       guided = std::size_t(totals[4]);
     }
     loss_sum = v.loss / double(loss_steps);
-    char row[256];
-    std::snprintf(row, sizeof row, "%ld,%.3f,%.6g,%.3f,%u,%.6g,%.4g", now, seconds_before_ + elapsed(), loss_sum,
-                  double(lookups) / double(loss_steps * config_.batch * config_.samples),
-                  v.non_finite + g.non_finite + rhs_dropped,
-                  lr_scale * double(network_->config().adam.learning_rate_at(std::uint64_t(now))),
-                  double(residual_power_));
-    std::string line = row;
-    if (guide_) {
-      std::snprintf(row, sizeof row, ",%.6g,%.4f", g.loss / double(loss_steps),
-                    double(guided) / double(loss_steps * config_.batch * config_.samples));
-      line += row;
-    }
-    append_log(line);
+    const double samples = double(loss_steps * config_.batch * config_.samples);
+    if (run_)
+      run_->append_log(
+          {.step = now,
+           .seconds = seconds_before_ + elapsed(),
+           .loss = loss_sum,
+           .lookups = double(lookups) / samples,
+           .non_finite = v.non_finite + g.non_finite + rhs_dropped,
+           .learning_rate = lr_scale * double(network_->config().adam.learning_rate_at(std::uint64_t(now))),
+           .residual_power = double(residual_power_),
+           .guide_loss = g.loss / double(loss_steps),
+           .guided_share = double(guided) / samples});
     char detail[128];
     std::snprintf(detail, sizeof detail, "step %ld  loss %.4g  %.2f steps/s", now, loss_sum,
                   double(now - first_step) / std::max(1e-9, elapsed()));

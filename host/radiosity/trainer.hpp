@@ -1,18 +1,20 @@
 #pragma once
-// Neural Radiosity training (DESIGN.md §2). Each step draws a TrainingBatch on the host, evaluates sg(L_α) at the
+// Neural Radiosity training (docs/design.md §2). Each step draws a TrainingBatch on the host, evaluates sg(L_α) at the
 // incident hits on the device, forms the right-hand side, and takes an Adam step on the residual. With method
 // `isnr` the I-Module gives 8 vMF lobes per point first, a share of the incident directions is drawn from them
 // on the device, and after the N-Module's step the I-Module takes its own on the KL / IKL gradient (sg both ways).
-// A run lives in RUN_DIR: config.json (settings), log.csv (one row per log interval), model.clr (checkpoint).
+// A run lives in RUN_DIR (run_directory.hpp), which the trainer holds locked while it lives.
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include "cl/context.hpp"
 #include "distributed/gradient_exchange.hpp"
 #include "nn/loss.hpp"
 #include "nn/network.hpp"
-#include "radiosity/incident_sampling.hpp"
+#include "radiosity/guide/incident_sampling.hpp"
+#include "radiosity/run_directory.hpp"
 #include "radiosity/train_config.hpp"
 #include "radiosity/training_batch.hpp"
 
@@ -22,10 +24,6 @@ namespace clr::radiosity {
 // bounding box, inputs the scene needs (albedo only when it varies), and the user's `network` overrides on top.
 nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
                                           const TrainConfig& config, const cl::DeviceInfo& device);
-// The I-Module for a scene: nn::i_module_config over its bounding box, roughness only where it varies, and the
-// user's `guide` overrides on top.
-nn::NetworkConfig guide_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
-                                       const TrainConfig& config);
 
 struct StepStats {
   double loss = 0;          // mean residual loss over the batch
@@ -37,8 +35,9 @@ struct StepStats {
 class Trainer {
  public:
   // Starts a new run in `run_dir` (which must be empty or absent), or continues one when `resume` is set:
-  // then the run's config.json and model.clr are read back, and `config` only supplies the stopping rule.
-  // With several `ranks` (MPI, README "MPI") each draws its share of the global batch, gradients are summed over
+  // then the run's config.json and model.clr are read back, and `config` only supplies the stopping rule. Another
+  // process training in `run_dir` is an InputError.
+  // With several `ranks` (MPI, docs/mpi.md) each draws its share of the global batch, gradients are summed over
   // them before every Adam step, and rank 0 alone reads and writes RUN_DIR: the others take its config and state.
   Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConfig config, std::filesystem::path run_dir,
           bool resume, const distributed::Communicator& ranks = distributed::Communicator::single());
@@ -75,8 +74,7 @@ class Trainer {
   void hold_radiance(bool hold) { hold_radiance_ = hold; }
 
  private:
-  void append_log(const std::string& line) const;
-  bool writes_run_dir() const { return exchange_.communicator().rank() == 0; }
+  bool writes_run_dir() const { return run_.has_value(); }
   // trainer_ranks.cpp: ranks other than 0 take rank 0's config and state; all check they still agree, every
   // kRankCheckEvery steps (a checksum of the parameters: a few milliseconds against minutes of steps).
   static constexpr long kRankCheckEvery = 200;
@@ -87,7 +85,7 @@ class Trainer {
   const geometry::Geometry* geometry_;
   geometry::SurfaceSampler sampler_;
   TrainConfig config_;
-  std::filesystem::path run_dir_;
+  std::optional<RunDirectory> run_;  // rank 0's; the other ranks write nothing
   std::unique_ptr<nn::Network> network_;
   nn::Loss loss_;
   float residual_power_ = 1;  // TrainConfig::relative_power, updated by run() as the budget is spent
@@ -110,14 +108,13 @@ class Trainer {
 };
 
 // The default batch for a device: GPUs take the paper-sized batch, CPU devices a smaller one so a step stays
-// interactive (the step cost is dominated by the MLP's GEMMs, DESIGN.md §6).
+// interactive (the step cost is dominated by the MLP's GEMMs, docs/design.md §6).
 int default_batch(const cl::DeviceInfo& device);
 
 // The N-Module's hidden width for a device: the paper's 512 on GPUs; 256 on CPU devices, where the 512-wide GEMMs
-// are ~80 % of a step. Width 256 takes 3.2× the steps per unit of time, and at minutes-long budgets the error is
-// the Monte Carlo noise of rare emitter hits, which more steps average down (the hash grid carries the detail):
-// on a 2-core CPU the shared Cornell box reached MAPE 0.069–0.084 in 10 minutes (three seeds) against 0.099–0.109
-// at 512, and both Veach scenes improved as much. README: "Training time against accuracy".
+// dominate a step. At minutes-long budgets the error is the Monte Carlo noise of rare emitter hits, which more
+// steps average down (the hash grid carries the detail), so the narrower network's extra steps win on a CPU
+// (docs/method.md; figures in docs/results/nr-training.md).
 std::size_t default_width(const cl::DeviceInfo& device);
 
 }  // namespace clr::radiosity

@@ -1,4 +1,4 @@
-// What the MPI ranks of one training share (README "MPI"): rank 0 reads and writes RUN_DIR; the others start from
+// What the MPI ranks of one training share (docs/mpi.md): rank 0 reads and writes RUN_DIR; the others start from
 // its config and its networks' state, so that every rank steps the same parameters whatever its device or its
 // view of the file system — a config chosen for rank 0's device (batch, width) holds for all.
 #include "common/error.hpp"

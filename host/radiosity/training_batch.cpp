@@ -3,7 +3,6 @@
 #include <algorithm>
 
 #include "common/parallel.hpp"
-#include "nn/vmf_mixture.hpp"
 
 namespace clr::radiosity {
 namespace {
@@ -26,7 +25,6 @@ void sample_training_points(const geometry::SurfaceSampler& sampler, const scene
   batch.surface.resize(M);
   batch.wo.resize(M);
   batch.point_rows.resize(M * R);
-  batch.frame_normals.resize(settings.guide ? M * 3 : 0);
   sampler.sample(stream_id(seed, step, 0), batch.surface, settings.first_point);
   parallel_for(M, 256, [&](std::size_t first, std::size_t last) {
     for (std::size_t m = first; m < last; ++m) {
@@ -39,16 +37,12 @@ void sample_training_points(const geometry::SurfaceSampler& sampler, const scene
         wo -= 2.0f * glm::dot(wo, x.point.frame.n) * x.point.frame.n;
       batch.wo[m] = wo;
       write_raw_row(scene, x.point, wo, &batch.point_rows[m * R]);
-      if (settings.guide) {
-        const glm::vec3 n = nn::frame_normal(x.point.frame.n, wo);
-        std::copy_n(&n.x, 3, &batch.frame_normals[3 * m]);
-      }
     }
   });
 }
 
-void sample_incident(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed,
-                     std::uint64_t step, std::span<const float> guided, TrainingBatch& batch) {
+void trace_incident(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed,
+                    std::uint64_t step, std::span<const float> guided, TrainingBatch& batch) {
   const scene::Scene& scene = geometry.scene();
   const std::size_t M = batch.points, N = batch.samples, R = nn::kRawInputs;
   const float c = settings.bsdf_fraction;

@@ -1,5 +1,5 @@
 #pragma once
-// The host half of one training step (DESIGN.md §2), built in two halves around the I-Module: first M points
+// The host half of one training step (docs/design.md §2), built in two halves around the I-Module: first M points
 // (x, ω_o) drawn uniformly by area and direction on the surfaces the network models; then N incident directions
 // each — from the BSDF, or, with ISNR, from the one-sample mixture p̃ = c·p_bsdf + (1 − c)·q whose guided
 // directions the device drew — traced through delta chains to the next modelled surface. What the device needs
@@ -22,15 +22,14 @@ struct TrainingBatch {
   std::vector<float> point_rows;                 // points × kRawInputs
   std::vector<float> incident_rows;              // lookups × kRawInputs: where sg(L_α) is read
   // Per sample (points·samples, × 3 for RGB and directions). A sample's RHS term is (emitted + weight·L) / pdf.
-  std::vector<float> weight;         // f·cos times the delta chain's throughput; not divided by any pdf, except for
-                                     // samples of a delta lobe, which hold the BSDF's weight (f / lobe probability)
-  std::vector<float> emitted;        // the emission met along the chain, weighted as `weight`
-  std::vector<float> bsdf_pdf;       // p_bsdf(ω_i); −1 marks a delta-lobe (or absorbed) sample: never guided
-  std::vector<float> pdf;            // p̃: filled here when nothing is guided (c = 1), else on the device
-  std::vector<float> directions;     // ω_i, world space; only with a guide (its pdf and loss need them)
-  std::vector<float> frame_normals;  // points × 3: each point's lobe frame normal (nn::frame_normal); with a guide
-  std::vector<int> lookup;           // row in incident_rows, or −1
-  std::size_t guided = 0;            // samples whose direction came from q
+  std::vector<float> weight;      // f·cos times the delta chain's throughput; not divided by any pdf, except for
+                                  // samples of a delta lobe, which hold the BSDF's weight (f / lobe probability)
+  std::vector<float> emitted;     // the emission met along the chain, weighted as `weight`
+  std::vector<float> bsdf_pdf;    // p_bsdf(ω_i); −1 marks a delta-lobe (or absorbed) sample: never guided
+  std::vector<float> pdf;         // p̃: filled here when nothing is guided (c = 1), else on the device
+  std::vector<float> directions;  // ω_i, world space; only with a guide (its pdf and loss need them)
+  std::vector<int> lookup;        // row in incident_rows, or −1
+  std::size_t guided = 0;         // samples whose direction came from q
 
   std::size_t lookups() const { return incident_rows.size() / nn::kRawInputs; }
 };
@@ -48,16 +47,17 @@ struct BatchSettings {
   std::size_t first_point = 0;
 };
 
-// The first half: points, directions ω_o, their raw input rows (and frame normals with a guide).
+// The first half, on the host: points, directions ω_o, their raw input rows.
 void sample_training_points(const geometry::SurfaceSampler& sampler, const scene::Scene& scene,
                             const BatchSettings& settings, std::uint64_t seed, std::uint64_t step,
                             TrainingBatch& batch);
 
-// The second half: each sample takes the BSDF with probability c, else the direction guided[s] (3 floats per
-// sample, drawn from q on the device; empty when c = 1). Sample streams depend only on (seed, step, point index), so
-// a batch is reproducible whatever the thread count.
-void sample_incident(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed,
-                     std::uint64_t step, std::span<const float> guided, TrainingBatch& batch);
+// The second half, on the host: each sample takes the BSDF with probability c, else the direction guided[s] (3
+// floats per sample, drawn from q on the device; empty when c = 1), and its ray is traced (Embree) through delta
+// chains. Sample streams depend only on (seed, step, point index), so a batch is reproducible whatever the thread
+// count. IncidentSampling (guide/incident_sampling.hpp) runs the device's part around it.
+void trace_incident(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed,
+                    std::uint64_t step, std::span<const float> guided, TrainingBatch& batch);
 
 // The three uniforms per sample that the device turns into guided directions (kernels/vmf.cl: vmf_sample).
 void guide_uniforms(std::size_t points, std::size_t samples, std::uint64_t seed, std::uint64_t step,

@@ -10,6 +10,7 @@
 #include "common/atomic_file.hpp"
 #include "common/stop_signal.hpp"
 #include "radiosity/residual.hpp"
+#include "radiosity/run_directory.hpp"
 #include "radiosity/trained_model.hpp"
 #include "radiosity/trainer.hpp"
 
@@ -90,7 +91,7 @@ void take_snapshot(const radiosity::Trainer& trainer, const cl::Context& ctx, co
 void evaluate(const SweepContext& sweep, const Configuration& config, const Target& t) {
   std::ifstream in(t.dir / "snapshot.json");
   const auto info = nlohmann::json::parse(in);
-  auto network = radiosity::load_network(sweep.ctx, t.dir / "model.clr");
+  auto network = radiosity::RunDirectory::load_radiance(sweep.ctx, t.dir);
   const auto field = radiosity::radiance_query(sweep.ctx, *network);
   // A few pixels first, so that the timed render does not include building the device's programs (a resumed
   // sweep evaluates snapshots before any training has built them).
@@ -156,7 +157,7 @@ void run_configuration(const SweepContext& sweep, const Configuration& config) {
   for (const auto& t : pending)
     if (t.point == "budget") first_pending_s = std::min(first_pending_s, t.minutes * 60.0);
   std::optional<radiosity::Trainer> trainer;
-  if (fs::exists(train_dir / "model.clr")) {
+  if (fs::exists(radiosity::RunDirectory::model_path(train_dir))) {
     trainer.emplace(sweep.ctx, sweep.geometry, train_config, train_dir, true);
     // A run whose checkpoint is already past a budget without a snapshot (possible only after a kill without
     // Ctrl-C's checkpoint) cannot give that budget's model: it starts again.

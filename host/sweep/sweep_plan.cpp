@@ -13,8 +13,8 @@ std::string Configuration::name() const {
 
 radiosity::TrainConfig Configuration::train_config(const radiosity::TrainConfig& base, double minutes) const {
   radiosity::TrainConfig c = base;
-  c.method = guided() ? "isnr" : "nr";
-  if (guided()) c.is_loss = method.substr(5);
+  c.method = guided() ? radiosity::Method::Isnr : radiosity::Method::Nr;
+  if (guided()) c.is_loss = radiosity::parse_is_loss(method.substr(5), "--methods");
   c.samples = samples;
   c.seed = seed;
   c.steps = 0;

@@ -15,14 +15,14 @@ namespace {
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-DeviceInfo fake(unsigned p, unsigned d, std::string platform, std::string name, std::string type) {
+DeviceInfo fake(unsigned p, unsigned d, std::string platform, std::string name, DeviceType type) {
   DeviceInfo info;
   info.platform_vendor = p == 0 ? "The pocl project" : "NVIDIA Corporation";
   info.platform_index = p;
   info.device_index = d;
   info.platform_name = std::move(platform);
   info.name = std::move(name);
-  info.type = std::move(type);
+  info.type = type;
   info.device = reinterpret_cast<cl_device_id>(std::uintptr_t(100 * p + d + 1));
   return info;
 }
@@ -31,9 +31,9 @@ class DeviceSpecTest : public ::testing::Test {
  protected:
   void SetUp() override { unsetenv("CLRADIOSITY_DEVICE"); }
   void TearDown() override { unsetenv("CLRADIOSITY_DEVICE"); }
-  std::vector<DeviceInfo> devices = {fake(0, 0, "Portable Computing Language", "pthread-skylake", "cpu"),
-                                     fake(1, 0, "NVIDIA CUDA", "NVIDIA H100 80GB HBM3", "gpu"),
-                                     fake(1, 1, "NVIDIA CUDA", "NVIDIA A100", "gpu")};
+  std::vector<DeviceInfo> devices = {fake(0, 0, "Portable Computing Language", "pthread-skylake", DeviceType::Cpu),
+                                     fake(1, 0, "NVIDIA CUDA", "NVIDIA H100 80GB HBM3", DeviceType::Gpu),
+                                     fake(1, 1, "NVIDIA CUDA", "NVIDIA A100", DeviceType::Gpu)};
 };
 
 TEST_F(DeviceSpecTest, DefaultPrefersFirstGpu) { EXPECT_EQ(select_device(devices, "").spec(), "1:0"); }
@@ -45,7 +45,7 @@ TEST_F(DeviceSpecTest, DefaultFallsBackToCpu) {
 
 TEST_F(DeviceSpecTest, IndicesSelectExactly) {
   EXPECT_EQ(select_device(devices, "1:1").name, "NVIDIA A100");
-  EXPECT_EQ(select_device(devices, "0:0").type, "cpu");
+  EXPECT_EQ(select_device(devices, "0:0").type, DeviceType::Cpu);
 }
 
 TEST_F(DeviceSpecTest, SubstringMatches) {

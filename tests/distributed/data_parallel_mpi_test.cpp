@@ -13,6 +13,7 @@
 #include "distributed/communicator.hpp"
 #include "distributed/gradient_exchange.hpp"
 #include "distributed/image_rows.hpp"
+#include "radiosity/guide/i_module.hpp"
 #include "radiosity/trainer.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/scene.hpp"
@@ -170,7 +171,7 @@ TEST_F(DataParallel, SparseExchangeSumsTheDenseGradients) {
 }
 
 TEST_F(DataParallel, DivergedParametersStopTheRun) {
-  nn::NetworkConfig config = nn::i_module_config({0, 0, 0}, {1, 1, 1});
+  nn::NetworkConfig config = radiosity::i_module_config({0, 0, 0}, {1, 1, 1});
   nn::Network net(ctx(), config);
   const distributed::GradientExchange exchange(ctx(), ranks());
   EXPECT_NO_THROW(exchange.check_same_parameters(net, "I-Module", 1));

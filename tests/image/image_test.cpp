@@ -1,4 +1,4 @@
-// Image files, downsampling and the metrics of DESIGN.md §4, against hand-computed values.
+// Image files, downsampling and the metrics of docs/design.md §4, against hand-computed values.
 #include "image/image.hpp"
 
 #include <gmock/gmock.h>
@@ -11,6 +11,7 @@
 
 #include "common/error.hpp"
 #include "support/run_cli.hpp"
+#include "support/shared_scenes.hpp"
 
 namespace clr::image {
 namespace {
@@ -127,8 +128,8 @@ TEST(CompareCommand, PrintsMetricsAndRejectsBadInput) {
 }
 
 TEST(CompareCommand, TungstenReferenceLoads) {
-  const fs::path ref = fs::path(CLR_SHARED_SCENES) / "cornell-box" / "TungstenRender.exr";
-  if (!fs::exists(ref)) GTEST_SKIP() << ref << " missing";
+  const fs::path ref = clr::test::shared_scenes() / "cornell-box" / "TungstenRender.exr";
+  CLR_REQUIRE_SHARED(ref);
   const Image img = read_exr(ref);
   EXPECT_EQ(img.width, 1024);
   EXPECT_EQ(img.height, 1024);

@@ -97,7 +97,7 @@ class GemmTest : public ClTest {
 // Every candidate tile of CPUs and GPUs, not only the one the probe picks here: another device picks another.
 TEST_F(GemmTest, OwnKernelMatchesTwinWithEveryTile) {
   std::vector<nn::GemmTile> tiles;
-  for (const char* type : {"cpu", "gpu"}) {
+  for (const cl::DeviceType type : {cl::DeviceType::Cpu, cl::DeviceType::Gpu}) {
     cl::DeviceInfo device = ctx().device();
     device.type = type;
     for (const auto& t : nn::gemm_tiles(device)) tiles.push_back(t);

@@ -15,6 +15,7 @@
 #include "radiosity/trainer.hpp"
 #include "scene/scene.hpp"
 #include "support/cl_fixture.hpp"
+#include "support/shared_scenes.hpp"
 
 namespace clr::test {
 namespace {
@@ -22,8 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 
 TEST_F(ClTest, GuideTrainedAloneCutsTheRhsVarianceOnVeachBidir) {
-  const fs::path dir = fs::path(CLR_SHARED_SCENES) / "veach-bidir";
-  if (!fs::exists(dir / "scene.xml")) GTEST_SKIP() << "no " << dir;
+  const fs::path dir = clr::test::shared_scenes() / "veach-bidir";
+  CLR_REQUIRE_SHARED(dir / "scene.xml");
   const auto scene = scene::load_scene(dir / "scene.xml");
   const geometry::Geometry geometry(scene);
   const fs::path nr_run = fs::temp_directory_path() / ("clr_gv_nr_" + std::to_string(::getpid()));
@@ -35,10 +36,10 @@ TEST_F(ClTest, GuideTrainedAloneCutsTheRhsVarianceOnVeachBidir) {
   config.steps = 600;
   config.log_every = 1000000;
   config.checkpoint_every = 1000000;
-  config.method = "nr";
+  config.method = radiosity::Method::Nr;
   radiosity::Trainer(ctx(), geometry, config, nr_run, false).run();
 
-  config.method = "isnr";
+  config.method = radiosity::Method::Isnr;
   config.guide_warmup = 0.0;  // step() by hand runs no budget: the mixture from the first step
   radiosity::Trainer guided(ctx(), geometry, config, isnr_run, false);
   guided.network().load((nr_run / "model.clr").string());

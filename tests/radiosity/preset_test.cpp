@@ -14,7 +14,7 @@ namespace {
 
 SceneInputs unit_box(double area) { return {{0, 0, 0}, {1, 1, 1}, false, false, area}; }
 
-cl::DeviceInfo device_of(const std::string& type) {
+cl::DeviceInfo device_of(cl::DeviceType type) {
   cl::DeviceInfo d;
   d.type = type;
   return d;
@@ -23,22 +23,23 @@ cl::DeviceInfo device_of(const std::string& type) {
 TEST(Preset, BatchFollowsTheBudgetOnCpus) {
   std::map<std::string, TrainConfig> cpu, gpu;
   for (const char* name : {"preview", "balanced", "quality"}) {
-    apply_preset(name, cpu[name], unit_box(6), device_of("cpu"));
-    apply_preset(name, gpu[name], unit_box(6), device_of("gpu"));
+    apply_preset(name, cpu[name], unit_box(6), device_of(cl::DeviceType::Cpu));
+    apply_preset(name, gpu[name], unit_box(6), device_of(cl::DeviceType::Gpu));
     EXPECT_EQ(cpu[name].preset, name);
-    EXPECT_EQ(gpu[name].batch, default_batch(device_of("gpu"))) << name << ": GPUs keep the paper's batch";
-    EXPECT_EQ(cpu[name].network["width"], default_width(device_of("cpu"))) << name;
-    EXPECT_EQ(gpu[name].network["width"], default_width(device_of("gpu"))) << name;
+    EXPECT_EQ(gpu[name].batch, default_batch(device_of(cl::DeviceType::Gpu)))
+        << name << ": GPUs keep the paper's batch";
+    EXPECT_EQ(cpu[name].network["width"], default_width(device_of(cl::DeviceType::Cpu))) << name;
+    EXPECT_EQ(gpu[name].network["width"], default_width(device_of(cl::DeviceType::Gpu))) << name;
   }
   EXPECT_LT(cpu["preview"].batch, cpu["balanced"].batch) << "a short budget takes more, smaller steps";
-  EXPECT_EQ(cpu["balanced"].batch, default_batch(device_of("cpu"))) << "balanced is the defaults";
-  EXPECT_EQ(cpu["quality"].batch, default_batch(device_of("cpu")));
+  EXPECT_EQ(cpu["balanced"].batch, default_batch(device_of(cl::DeviceType::Cpu))) << "balanced is the defaults";
+  EXPECT_EQ(cpu["quality"].batch, default_batch(device_of(cl::DeviceType::Cpu)));
 }
 
 TEST(Preset, TableShrinksToWhatTheSurfacesTouch) {
   const auto table = [](double area) {
     TrainConfig c;
-    apply_preset("balanced", c, unit_box(area), device_of("cpu"));
+    apply_preset("balanced", c, unit_box(area), device_of(cl::DeviceType::Cpu));
     return c.network["encoder"]["grid"]["log2_table"].get<std::size_t>();
   };
   EXPECT_EQ(table(6.0), 18u) << "a box's six walls touch far more finest-level vertices than 2^18";
@@ -50,15 +51,15 @@ TEST(Preset, GivesABudgetOnlyWhereNoneWasGiven) {
   TrainConfig none, steps, minutes;
   steps.steps = 7;
   minutes.minutes = 0.5;
-  const auto why = apply_preset("quality", none, unit_box(6), device_of("cpu"));
-  apply_preset("quality", steps, unit_box(6), device_of("cpu"));
-  apply_preset("quality", minutes, unit_box(6), device_of("cpu"));
+  const auto why = apply_preset("quality", none, unit_box(6), device_of(cl::DeviceType::Cpu));
+  apply_preset("quality", steps, unit_box(6), device_of(cl::DeviceType::Cpu));
+  apply_preset("quality", minutes, unit_box(6), device_of(cl::DeviceType::Cpu));
   EXPECT_GT(none.minutes, 0.0);
   EXPECT_THAT(why.front(), ::testing::HasSubstr("budget"));
   EXPECT_EQ(steps.minutes, 0.0);
   EXPECT_EQ(steps.steps, 7);
   EXPECT_EQ(minutes.minutes, 0.5);
-  EXPECT_THROW(apply_preset("fast", none, unit_box(6), device_of("cpu")), InputError);
+  EXPECT_THROW(apply_preset("fast", none, unit_box(6), device_of(cl::DeviceType::Cpu)), InputError);
 }
 
 }  // namespace

@@ -75,7 +75,7 @@ TEST(TrainConfig, RelativeResidualFadesToL2OverTheBudget) {
   EXPECT_EQ(c.relative_power(1.5), 0.0) << "past the fade the residual stays plain L2";
   c.relative_fade_end = 0.0;
   EXPECT_EQ(c.relative_power(0.9), 1.0) << "relative_fade_end 0 keeps the relative residual";
-  c.residual = "l2";
+  c.residual = Residual::L2;
   EXPECT_EQ(c.relative_power(0.0), 0.0);
   EXPECT_THAT(error_of({{"relative_fade_end", -0.1}}), HasSubstr("relative_fade_end"));
 }

@@ -12,6 +12,7 @@
 
 #include "common/error.hpp"
 #include "radiosity/residual.hpp"
+#include "radiosity/run_directory.hpp"
 #include "radiosity/trained_model.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/scene.hpp"
@@ -163,7 +164,7 @@ TEST_F(Training, IsnrResumeIsBitExact) {
   config.anneal_start = 1.0;
   config.relative_fade_end = 0.0;
   config.guide_warmup = 0.0;
-  ASSERT_EQ(config.method, "isnr");
+  ASSERT_EQ(config.method, radiosity::Method::Isnr);
   TempRun straight("isnr_straight"), halves("isnr_halves");
   radiosity::Trainer a(ctx(), geometry, config, straight.path, false);
   ASSERT_NE(a.guide(), nullptr);
@@ -196,16 +197,16 @@ TEST_F(Training, RunsWithoutAMethodResumeAsNr) {
   const geometry::Geometry geometry(scene);
   TempRun run("old_nr");
   auto config = small_config(10);
-  config.method = "nr";
+  config.method = radiosity::Method::Nr;
   radiosity::Trainer(ctx(), geometry, config, run.path, false).run();
   std::ifstream in(run.path / "config.json");
   auto saved = nlohmann::json::parse(in);
   for (const char* key : {"method", "is_loss", "bsdf_fraction", "guide"}) saved.erase(key);
   std::ofstream(run.path / "config.json") << saved.dump(2);
   config.steps = 20;
-  config.method = "isnr";  // only the stopping rule is taken from a resuming invocation
+  config.method = radiosity::Method::Isnr;  // only the stopping rule is taken from a resuming invocation
   radiosity::Trainer resumed(ctx(), geometry, config, run.path, true);
-  EXPECT_EQ(resumed.config().method, "nr");
+  EXPECT_EQ(resumed.config().method, radiosity::Method::Nr);
   EXPECT_EQ(resumed.guide(), nullptr);
   resumed.run();
   EXPECT_EQ(resumed.steps_done(), 20u);
@@ -242,16 +243,19 @@ TEST_F(Training, SnapshotsOnTheWayAndABudgetInTotal) {
   ASSERT_GT(snapshot_steps, 0u) << "the hook never saw 0.3 s of training";
   EXPECT_GE(snapshot_seconds, 0.3);
   // A snapshot is a run directory of its own: its networks load as render and residual load them.
-  EXPECT_EQ(radiosity::load_network(ctx(), snapshot / "model.clr")->steps(), snapshot_steps);
-  EXPECT_NE(radiosity::load_guide(ctx(), snapshot), nullptr);
+  EXPECT_EQ(radiosity::RunDirectory::load_radiance(ctx(), snapshot)->steps(), snapshot_steps);
+  EXPECT_NE(radiosity::RunDirectory::load_guide(ctx(), snapshot), nullptr);
 
   // Resumed with a budget in total, a run past it takes no step; a larger total continues to it, not beyond.
   radiosity::Trainer::RunOptions in_total;
   in_total.minutes_in_total = true;
-  radiosity::Trainer spent(ctx(), geometry, config, run.path / "train", true);
-  const auto steps = spent.steps_done();
-  spent.run(in_total);
-  EXPECT_EQ(spent.steps_done(), steps);
+  std::uint64_t steps = 0;
+  {  // a trainer holds its run directory's lock while it lives
+    radiosity::Trainer spent(ctx(), geometry, config, run.path / "train", true);
+    steps = spent.steps_done();
+    spent.run(in_total);
+    EXPECT_EQ(spent.steps_done(), steps);
+  }
   config.minutes = 0.02;
   radiosity::Trainer more(ctx(), geometry, config, run.path / "train", true);
   const double before = more.seconds_trained();

@@ -7,13 +7,14 @@
 #include "reference/agreement.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/scene.hpp"
+#include "support/shared_scenes.hpp"
 
 namespace clr::test {
 namespace {
 
 TEST(CornellBox, AgreesWithTungsten) {
-  const std::filesystem::path dir = std::filesystem::path(CLR_SHARED_SCENES) / "cornell-box";
-  if (!std::filesystem::exists(dir / "scene.xml")) GTEST_SKIP() << "no " << dir;
+  const std::filesystem::path dir = clr::test::shared_scenes() / "cornell-box";
+  CLR_REQUIRE_SHARED(dir / "scene.xml");
   const auto scene = scene::load_scene(dir / "scene.xml");
   const geometry::Geometry geometry(scene);
   reference::RenderOptions opt;

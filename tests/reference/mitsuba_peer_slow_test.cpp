@@ -10,6 +10,7 @@
 #include "reference/agreement.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/scene.hpp"
+#include "support/shared_scenes.hpp"
 
 namespace clr::test {
 namespace {
@@ -27,8 +28,8 @@ class MitsubaPeer : public ::testing::TestWithParam<Case> {};
 
 TEST_P(MitsubaPeer, AgreesWithinNoise) {
   const Case c = GetParam();
-  const std::filesystem::path file = std::filesystem::path(CLR_SHARED_SCENES) / c.scene / "scene.xml";
-  if (!std::filesystem::exists(file)) GTEST_SKIP() << "no " << file;
+  const std::filesystem::path file = clr::test::shared_scenes() / c.scene / "scene.xml";
+  CLR_REQUIRE_SHARED(file);
   if (!have_mitsuba()) GTEST_SKIP() << "Mitsuba 3 is not installed (pip install mitsuba)";
   const auto scene = scene::load_scene(file);
   const geometry::Geometry geometry(scene);

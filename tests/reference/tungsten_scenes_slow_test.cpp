@@ -15,6 +15,7 @@
 #include "reference/agreement.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/scene.hpp"
+#include "support/shared_scenes.hpp"
 
 namespace clr::test {
 namespace {
@@ -31,8 +32,8 @@ class TungstenScene : public ::testing::TestWithParam<Case> {};
 
 TEST_P(TungstenScene, AgreesWithinNoise) {
   const Case c = GetParam();
-  const std::filesystem::path dir = std::filesystem::path(CLR_SHARED_SCENES) / c.scene;
-  if (!std::filesystem::exists(dir / "scene.xml")) GTEST_SKIP() << "no " << dir;
+  const std::filesystem::path dir = clr::test::shared_scenes() / c.scene;
+  CLR_REQUIRE_SHARED(dir / "scene.xml");
   const auto scene = scene::load_scene(dir / "scene.xml");
   const geometry::Geometry geometry(scene);
   reference::RenderOptions opt;
@@ -70,8 +71,8 @@ INSTANTIATE_TEST_SUITE_P(Shared, TungstenScene,
 // Every shared scene (the staircase: Mitsuba 0.5, 774 OBJ meshes, textures) loads and renders finite, non-negative.
 TEST(SharedScenes, RenderWithoutNaN) {
   for (const char* name : {"cornell-box", "veach-bidir", "veach-ajar", "staircase"}) {
-    const std::filesystem::path file = std::filesystem::path(CLR_SHARED_SCENES) / name / "scene.xml";
-    if (!std::filesystem::exists(file)) GTEST_SKIP() << "no " << file;
+    const std::filesystem::path file = clr::test::shared_scenes() / name / "scene.xml";
+    CLR_REQUIRE_SHARED(file);
     const auto scene = scene::load_scene(file);
     const geometry::Geometry geometry(scene);
     reference::RenderOptions opt;

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "nn/vmf_mixture.hpp"
-#include "nn/vmf_twin.hpp"
+#include "radiosity/guide/vmf_mixture.hpp"
+#include "radiosity/guide/vmf_twin.hpp"
 #include "scene/chi2.hpp"
 #include "support/cl_fixture.hpp"
 #include "support/tolerance.hpp"
@@ -96,12 +96,12 @@ class VmfDevice {
     vmf_.dlogq(d, n / points_, out);
     return out.read();
   }
-  nn::VmfMixture& vmf() { return vmf_; }
+  radiosity::VmfMixture& vmf() { return vmf_; }
   const cl::Buffer<float>& raw() const { return raw_; }
 
  private:
   cl::Context* ctx_;
-  nn::VmfMixture vmf_;
+  radiosity::VmfMixture vmf_;
   std::size_t points_;
   cl::Buffer<float> raw_, normals_;
 };

@@ -1,11 +1,12 @@
 #pragma once
-// The incident half of a batch on the device (DESIGN.md §2), shared by training and the residual metric: the
-// directions from the BSDF alone, or from the one-sample mixture p̃ = c·p_bsdf + (1 − c)·q with an I-Module's
-// lobes — the guided directions drawn on the device and read back for the host's half, p̃ evaluated on the device
-// — and the batch's per-sample arrays uploaded, ready for the right-hand side and the guide's loss.
+// The incident half of a batch (docs/design.md §2), shared by training and the residual metric, with the device's part
+// here: the directions from the BSDF alone, or from the one-sample mixture p̃ = c·p_bsdf + (1 − c)·q with an
+// I-Module's lobes — the lobes decoded in each point's frame and the guided directions drawn on the device, read
+// back for the host's half (trace_incident: BSDF sampling and tracing), p̃ evaluated on the device — and the batch's
+// per-sample arrays uploaded, ready for the right-hand side and the guide's loss.
 #include "cl/buffer.hpp"
 #include "cl/context.hpp"
-#include "nn/vmf_mixture.hpp"
+#include "radiosity/guide/vmf_mixture.hpp"
 #include "radiosity/training_batch.hpp"
 
 namespace clr::radiosity {
@@ -25,16 +26,15 @@ class IncidentSampling {
   cl::Buffer<int> lookup;
   // The guide's view of those samples, once `radiance` holds sg(L_α) at the incident rows and `scattered` (× scale)
   // the N-Module's radiance at the points.
-  nn::GuideSamples guide_samples(const cl::Buffer<float>& radiance, const cl::Buffer<float>& scattered,
-                                 float scale) const {
+  GuideSamples guide_samples(const cl::Buffer<float>& radiance, const cl::Buffer<float>& scattered, float scale) const {
     return {directions, bsdf_pdf, pdf, weight, emitted, lookup, radiance, scattered, scale};
   }
-  nn::VmfMixture& vmf() { return vmf_; }
+  VmfMixture& vmf() { return vmf_; }
 
  private:
   cl::Context* ctx_;
-  nn::VmfMixture vmf_;
-  std::vector<float> uniforms_host_, guided_host_;
+  VmfMixture vmf_;
+  std::vector<float> normals_host_, uniforms_host_, guided_host_;
   cl::Buffer<float> normals_, uniforms_, guided_, q_;
 };
 

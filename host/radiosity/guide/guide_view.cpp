@@ -1,10 +1,11 @@
-#include "radiosity/guide_view.hpp"
+#include "radiosity/guide/guide_view.hpp"
 
 #include <cmath>
 
 #include "common/error.hpp"
 #include "common/parallel.hpp"
-#include "nn/vmf_mixture.hpp"
+#include "radiosity/guide/i_module.hpp"
+#include "radiosity/guide/vmf_mixture.hpp"
 #include "radiosity/surface_query.hpp"
 #include "radiosity/trained_model.hpp"
 
@@ -59,11 +60,11 @@ GuideView view_guide(cl::Context& ctx, const geometry::Geometry& geometry, nn::N
   // q at every map direction from the guide's lobes at (x, ω_o).
   std::vector<float> point_row(R);
   write_raw_row(scene, x, seen.wo, point_row.data());
-  const glm::vec3 frame_n = nn::frame_normal(x.frame.n, seen.wo);
-  cl::Buffer<float> row_dev(ctx, std::span<const float>(point_row)), raw(ctx, nn::kVmfRaw),
+  const glm::vec3 frame_n = frame_normal(x.frame.n, seen.wo);
+  cl::Buffer<float> row_dev(ctx, std::span<const float>(point_row)), raw(ctx, kVmfRaw),
       normal_dev(ctx, std::span<const float>(&frame_n.x, 3));
   guide.infer(row_dev, 1, raw);
-  nn::VmfMixture vmf(ctx);
+  VmfMixture vmf(ctx);
   vmf.decode(raw, normal_dev, 1);
   const std::vector<float> zero(n, 0.0f);
   cl::Buffer<float> dirs_dev(ctx, std::span<const float>(dirs)), bsdf_pdf(ctx, std::span<const float>(zero)),

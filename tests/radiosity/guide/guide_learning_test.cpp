@@ -8,7 +8,8 @@
 
 #include "common/pcg32.hpp"
 #include "nn/network.hpp"
-#include "nn/vmf_mixture.hpp"
+#include "radiosity/guide/i_module.hpp"
+#include "radiosity/guide/vmf_mixture.hpp"
 #include "scene/frame.hpp"
 #include "support/cl_fixture.hpp"
 
@@ -21,8 +22,8 @@ double cone_share_after_training(cl::Context& ctx, bool improved, int steps) {
   const float cone_cos = std::cos(15.0f * float(M_PI) / 180.0f);
   const float c = 0.5f, uniform_pdf = float(1.0 / (4.0 * M_PI));
 
-  nn::Network net(ctx, nn::i_module_config({0, 0, 0}, {1, 1, 1}));
-  nn::VmfMixture vmf(ctx);
+  nn::Network net(ctx, radiosity::i_module_config({0, 0, 0}, {1, 1, 1}));
+  radiosity::VmfMixture vmf(ctx);
   // Every point is the same surface point seen from above (raw row: x, ω_o, n, albedo, roughness).
   std::vector<float> rows;
   for (std::size_t m = 0; m < M; ++m)

@@ -1,8 +1,8 @@
-#include "nn/vmf_mixture.hpp"
+#include "radiosity/guide/vmf_mixture.hpp"
 
 #include "nn/gemm.hpp"
 
-namespace clr::nn {
+namespace clr::radiosity {
 
 namespace {
 constexpr std::size_t kLobeFields = 14;  // VMF_LOBE_FIELDS
@@ -25,36 +25,37 @@ void VmfMixture::decode(const cl::Buffer<float>& raw, const cl::Buffer<float>& n
   if (lobes_.size() < points * kVmfLobes * kLobeFields)
     lobes_ = cl::Buffer<float>(*ctx_, points * kVmfLobes * kLobeFields);
   points_ = points;
-  decode_.args(raw, normals, u32(points), lobes_).launch(points);
+  decode_.args(raw, normals, nn::u32(points), lobes_).launch(points);
 }
 
 void VmfMixture::sample(const cl::Buffer<float>& u, std::size_t samples, cl::Buffer<float>& dirs) {
-  sample_.args(lobes_, u, u32(points_), u32(samples), dirs).launch(points_ * samples);
+  sample_.args(lobes_, u, nn::u32(points_), nn::u32(samples), dirs).launch(points_ * samples);
 }
 
 void VmfMixture::mixture_pdf(const cl::Buffer<float>& dirs, const cl::Buffer<float>& bsdf_pdf, std::size_t samples,
                              float bsdf_fraction, cl::Buffer<float>& pdf, cl::Buffer<float>& q) {
-  pdf_.args(lobes_, dirs, bsdf_pdf, u32(points_), u32(samples), bsdf_fraction, pdf, q).launch(points_ * samples);
+  pdf_.args(lobes_, dirs, bsdf_pdf, nn::u32(points_), nn::u32(samples), bsdf_fraction, pdf, q)
+      .launch(points_ * samples);
 }
 
 void VmfMixture::dlogq(const cl::Buffer<float>& dirs, std::size_t samples, cl::Buffer<float>& out) {
-  dlogq_.args(lobes_, dirs, u32(points_), u32(samples), out).launch(points_ * samples);
+  dlogq_.args(lobes_, dirs, nn::u32(points_), nn::u32(samples), out).launch(points_ * samples);
 }
 
 void VmfMixture::loss(const GuideSamples& s, std::size_t samples, bool improved, cl::Buffer<float>& d_raw,
                       std::size_t mean_over) {
   loss_
-      .args(u32(points_), u32(samples), lobes_, s.dirs, s.bsdf_pdf, s.pdf, s.weight, s.emitted, s.lookup, s.radiance,
-            s.scattered, s.scattered_scale, improved ? 1u : 0u, 1.0f / float(mean_over ? mean_over : points_), d_raw,
-            total_, non_finite_)
+      .args(nn::u32(points_), nn::u32(samples), lobes_, s.dirs, s.bsdf_pdf, s.pdf, s.weight, s.emitted, s.lookup,
+            s.radiance, s.scattered, s.scattered_scale, improved ? 1u : 0u,
+            1.0f / float(mean_over ? mean_over : points_), d_raw, total_, non_finite_)
       .launch(points_);
 }
 
-LossValue VmfMixture::take() {
-  LossValue v{double(total_.read()[0]), non_finite_.read()[0]};
+nn::LossValue VmfMixture::take() {
+  nn::LossValue v{double(total_.read()[0]), non_finite_.read()[0]};
   total_.fill(0.0f);
   non_finite_.fill(0u);
   return v;
 }
 
-}  // namespace clr::nn
+}  // namespace clr::radiosity

@@ -1,4 +1,8 @@
-#include "radiosity/incident_sampling.hpp"
+#include "radiosity/guide/incident_sampling.hpp"
+
+#include <algorithm>
+
+#include "radiosity/guide/i_module.hpp"
 
 namespace clr::radiosity {
 
@@ -10,7 +14,12 @@ void IncidentSampling::sample(const geometry::Geometry& geometry, const BatchSet
   const bool guided = settings.guide && settings.bsdf_fraction < 1.0f;
   guided_host_.clear();
   if (settings.guide) {
-    cl::upload(*ctx_, normals_, batch.frame_normals);
+    normals_host_.resize(M * 3);
+    for (std::size_t m = 0; m < M; ++m) {
+      const glm::vec3 n = frame_normal(batch.surface[m].point.frame.n, batch.wo[m]);
+      std::copy_n(&n.x, 3, &normals_host_[3 * m]);
+    }
+    cl::upload(*ctx_, normals_, normals_host_);
     vmf_.decode(*lobes, normals_, M);
   }
   if (guided) {
@@ -22,7 +31,7 @@ void IncidentSampling::sample(const geometry::Geometry& geometry, const BatchSet
     guided_host_.resize(M * N * 3);
     guided_.read(std::span<float>(guided_host_));
   }
-  sample_incident(geometry, settings, seed, step, guided_host_, batch);
+  trace_incident(geometry, settings, seed, step, guided_host_, batch);
   cl::upload(*ctx_, incident_rows, batch.incident_rows);
   cl::upload(*ctx_, weight, batch.weight);
   cl::upload(*ctx_, emitted, batch.emitted);

@@ -5,18 +5,17 @@
 // trains the I-Module from the N-Module's incident radiance. Per-sample buffers are [points · samples (× 3)],
 // sample s belonging to point s / samples.
 #include <cstddef>
-#include <glm/glm.hpp>
 
 #include "cl/buffer.hpp"
 #include "cl/context.hpp"
 #include "cl/kernel.hpp"
 #include "nn/loss.hpp"
 
-namespace clr::nn {
+namespace clr::radiosity {
 
 inline constexpr std::size_t kVmfLobes = 8, kVmfRaw = 32;
 
-// What the guide's loss reads of a training step's samples (the layouts of radiosity::TrainingBatch on the device).
+// What the guide's loss reads of a training step's samples on the device (TrainingBatch's per-sample layouts).
 struct GuideSamples {
   const cl::Buffer<float>& dirs;      // ω_i, world space
   const cl::Buffer<float>& bsdf_pdf;  // p_bsdf(ω_i), < 0 for a delta-lobe sample (not in q's domain)
@@ -30,10 +29,6 @@ struct GuideSamples {
   const cl::Buffer<float>& scattered;
   float scattered_scale = 1.0f;
 };
-
-// The normal the lobes' frame is built about: the shading normal on the side of ω_o (two-sided surfaces are lit
-// from either side; the light a point sees comes from its side).
-inline glm::vec3 frame_normal(const glm::vec3& n, const glm::vec3& wo) { return glm::dot(n, wo) < 0.0f ? -n : n; }
 
 class VmfMixture {
  public:
@@ -56,7 +51,7 @@ class VmfMixture {
   void loss(const GuideSamples& s, std::size_t samples, bool improved, cl::Buffer<float>& d_raw,
             std::size_t mean_over = 0);
   // Reads and resets the accumulated loss and the count of dropped non-finite samples (a sync point).
-  LossValue take();
+  nn::LossValue take();
 
  private:
   cl::Context* ctx_;
@@ -67,4 +62,4 @@ class VmfMixture {
   cl::Kernel decode_, sample_, pdf_, dlogq_, loss_;
 };
 
-}  // namespace clr::nn
+}  // namespace clr::radiosity

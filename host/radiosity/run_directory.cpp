@@ -1,0 +1,163 @@
+#include "radiosity/run_directory.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "common/atomic_file.hpp"
+#include "common/error.hpp"
+#include "nn/checkpoint.hpp"
+#include "radiosity/trained_model.hpp"
+
+namespace clr::radiosity {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr const char* kLogHeader = "step,seconds,loss,lookups,non_finite,learning_rate,residual_power";
+constexpr const char* kGuideLogColumns = ",guide_loss,guided_share";  // isnr runs only
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot read " + path.string());
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+nlohmann::json read_json(const fs::path& path) {
+  try {
+    return nlohmann::json::parse(read_text(path));
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError("malformed JSON in " + path.string() + ": " + e.what());
+  }
+}
+
+// A run killed (SIGKILL, power loss) while writing leaves write_atomically's temporary ("model.clr.tmp<pid>")
+// beside the intact file. The caller holds the run's lock, so no live writer owns one: they are removed on resume
+// rather than left to pile up, one per kill.
+void remove_stale_temporaries(const fs::path& dir) {
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    for (const fs::path& file :
+         {RunDirectory::model_path(dir), RunDirectory::config_path(dir), RunDirectory::log_path(dir)}) {
+      const std::string base = file.filename().string() + ".tmp";
+      if (name.rfind(base, 0) == 0 && name.size() > base.size() &&
+          name.find_first_not_of("0123456789", base.size()) == std::string::npos && entry.is_regular_file()) {
+        std::error_code ec;
+        fs::remove(entry.path(), ec);
+      }
+    }
+  }
+}
+
+// The training time the run's sessions have logged: the `seconds` column of log.csv's last row (0 for a log with
+// a header alone).
+double logged_seconds(const fs::path& log_file) {
+  std::istringstream log(read_text(log_file));
+  std::string line, last;
+  long number = 0, last_number = 0;
+  while (std::getline(log, line)) {
+    ++number;
+    if (!line.empty()) last = line, last_number = number;
+  }
+  if (last.empty() || !std::isdigit(static_cast<unsigned char>(last[0]))) return 0;
+  const auto comma = last.find(',');
+  const char* begin = comma == std::string::npos ? nullptr : last.c_str() + comma + 1;
+  char* end = nullptr;
+  const double seconds = begin ? std::strtod(begin, &end) : NAN;
+  if (!begin || end == begin || (*end != ',' && *end != '\0') || !std::isfinite(seconds) || seconds < 0)
+    throw InputError(log_file.string() + ":" + std::to_string(last_number) +
+                     ": the seconds column is not a finite number ≥ 0");
+  return seconds;
+}
+
+void write_model(const fs::path& dir, const TrainConfig& config, const nn::Network& network, const nn::Network* guide) {
+  nn::Checkpoint c = network.checkpoint(std::to_string(config.seed));
+  if (guide) guide->add_tensors(c, "guide.");
+  nn::write_checkpoint(RunDirectory::model_path(dir).string(), c);
+}
+
+}  // namespace
+
+RunDirectory::RunDirectory(const fs::path& dir, bool create)
+    : dir_(dir), lock_(std::make_unique<RunLock>(dir, create)) {}
+
+RunDirectory RunDirectory::create(const fs::path& dir) {
+  RunDirectory run(dir, true);
+  if (!fs::is_empty(dir))
+    throw InputError("run directory " + dir.string() + " is not empty (use --resume to continue it)");
+  return run;
+}
+
+void RunDirectory::start(const TrainConfig& config) {
+  config_ = config;
+  write_text_atomically(config_path(dir_), nlohmann::json(config).dump(2) + "\n");
+  write_text_atomically(log_path(dir_), std::string(kLogHeader) + (config.guided() ? kGuideLogColumns : "") + "\n");
+}
+
+RunDirectory RunDirectory::resume(const fs::path& dir) {
+  RunDirectory run(dir, false);
+  if (!fs::exists(model_path(dir))) throw InputError("--resume: no checkpoint " + model_path(dir).string());
+  remove_stale_temporaries(dir);
+  run.config_ = load_config(dir);
+  run.seconds_trained_ = logged_seconds(log_path(dir));
+  return run;
+}
+
+TrainConfig RunDirectory::load_config(const fs::path& run) {
+  const fs::path file = config_path(run);
+  nlohmann::json saved = read_json(file);
+  if (saved.is_object() && !saved.contains("method")) saved["method"] = to_string(Method::Nr);
+  try {
+    return parse_train_config(saved);
+  } catch (const InputError& e) {
+    throw InputError(file.string() + ": " + e.what());
+  }
+}
+
+void RunDirectory::append_log(const LogRow& r) const {
+  char row[256];
+  std::snprintf(row, sizeof row, "%ld,%.3f,%.6g,%.3f,%u,%.6g,%.4g", r.step, r.seconds, r.loss, r.lookups, r.non_finite,
+                r.learning_rate, r.residual_power);
+  std::string line = row;
+  if (config_.guided()) {
+    std::snprintf(row, sizeof row, ",%.6g,%.4f", r.guide_loss, r.guided_share);
+    line += row;
+  }
+  std::ofstream out(log_path(dir_), std::ios::app);
+  out << line << "\n";
+  if (!out) throw std::runtime_error("cannot append to " + log_path(dir_).string());
+}
+
+void RunDirectory::save_model(const nn::Network& network, const nn::Network* guide) const {
+  write_model(dir_, config_, network, guide);
+}
+
+void RunDirectory::write_snapshot(const fs::path& dir, const TrainConfig& config, const nn::Network& network,
+                                  const nn::Network* guide) {
+  fs::create_directories(dir);
+  write_text_atomically(config_path(dir), nlohmann::json(config).dump(2) + "\n");
+  write_model(dir, config, network, guide);
+}
+
+std::unique_ptr<nn::Network> RunDirectory::load_radiance(cl::Context& ctx, const fs::path& run) {
+  return load_network(ctx, fs::is_directory(run) ? model_path(run) : run);
+}
+
+std::unique_ptr<nn::Network> RunDirectory::load_guide(cl::Context& ctx, const fs::path& run) {
+  const fs::path file = config_path(run);
+  const nlohmann::json config = read_json(file);
+  if (config.value("method", to_string(Method::Nr)) != std::string(to_string(Method::Isnr)) ||
+      !config.contains("guide"))
+    throw InputError(run.string() + " was trained without an I-Module (method nr): there is no guide to read");
+  nn::NetworkConfig guide_config;
+  try {
+    guide_config = nn::network_config_from_json(config.at("guide"));
+  } catch (const InputError& e) {
+    throw InputError(file.string() + ": guide: " + e.what());
+  }
+  return load_network(ctx, model_path(run), guide_config, "guide.");
+}
+
+}  // namespace clr::radiosity

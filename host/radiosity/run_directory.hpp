@@ -1,0 +1,74 @@
+#pragma once
+// RUN_DIR, the files of one training: config.json (every setting, the networks' included), log.csv (a row per log
+// interval) and model.clr (both modules' checkpoint). The file names live here alone. A RunDirectory is the one
+// writer of a run: it holds the directory's lock (common/run_lock.hpp) for as long as it lives. Reading a run
+// (render, residual, guide, a sweep's snapshots) needs no lock: the static readers below.
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "cl/context.hpp"
+#include "common/run_lock.hpp"
+#include "nn/network.hpp"
+#include "radiosity/train_config.hpp"
+
+namespace clr::radiosity {
+
+// One row of log.csv: the means over the steps since the previous row.
+struct LogRow {
+  long step = 0;
+  double seconds = 0;  // training time over every session of the run
+  double loss = 0;     // the N-Module's mean residual loss
+  double lookups = 0;  // share of incident samples that needed the network
+  std::uint32_t non_finite = 0;
+  double learning_rate = 0;   // the N-Module's, after the schedule
+  double residual_power = 0;  // the relative residual's denominator power (0: plain L2)
+  // ISNR runs only.
+  double guide_loss = 0;
+  double guided_share = 0;  // share of incident samples drawn from the I-Module's mixture
+};
+
+class RunDirectory {
+ public:
+  static std::filesystem::path config_path(const std::filesystem::path& dir) { return dir / "config.json"; }
+  static std::filesystem::path log_path(const std::filesystem::path& dir) { return dir / "log.csv"; }
+  static std::filesystem::path model_path(const std::filesystem::path& dir) { return dir / "model.clr"; }
+
+  // A new run: `dir` must be absent or empty. Locks and creates it; start() writes its first files once the
+  // settings are complete.
+  static RunDirectory create(const std::filesystem::path& dir);
+  // config.json and log.csv's header.
+  void start(const TrainConfig& config);
+  // An existing run: locks it, removes what killed writers left behind, reads its settings (a run written before
+  // ISNR existed has no method: it was NR) and the training time of its sessions so far (log.csv's last row).
+  static RunDirectory resume(const std::filesystem::path& dir);
+
+  const std::filesystem::path& path() const { return dir_; }
+  const TrainConfig& config() const { return config_; }
+  double seconds_trained() const { return seconds_trained_; }
+
+  void append_log(const LogRow& row) const;
+  // model.clr, written atomically: the previous one stays intact until the new one is complete.
+  void save_model(const nn::Network& network, const nn::Network* guide) const;
+  // The networks as they are now, as a run directory of their own (config.json + model.clr) that render, residual
+  // and guide read: a sweep's snapshot of the run at one budget.
+  static void write_snapshot(const std::filesystem::path& dir, const TrainConfig& config, const nn::Network& network,
+                             const nn::Network* guide);
+
+  // The N-Module of a run (`run` a run directory or its model.clr).
+  static std::unique_ptr<nn::Network> load_radiance(cl::Context& ctx, const std::filesystem::path& run);
+  // The I-Module of an ISNR run: its config from config.json, its tensors from model.clr. InputError when the run
+  // was trained without one (method nr) or its files are missing or damaged.
+  static std::unique_ptr<nn::Network> load_guide(cl::Context& ctx, const std::filesystem::path& run);
+  // The run's settings as saved (InputError naming the file when it is missing or malformed).
+  static TrainConfig load_config(const std::filesystem::path& run);
+
+ private:
+  RunDirectory(const std::filesystem::path& dir, bool create);
+  std::filesystem::path dir_;
+  std::unique_ptr<RunLock> lock_;
+  TrainConfig config_;
+  double seconds_trained_ = 0;
+};
+
+}  // namespace clr::radiosity
