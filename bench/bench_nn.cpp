@@ -1,4 +1,4 @@
-// Network engine benchmark (DESIGN.md §6): GEMM GFLOP/s per backend beside the device's measured FMA peak and
+// Network engine benchmark (docs/design.md §6): GEMM GFLOP/s per backend beside the device's measured FMA peak and
 // OpenBLAS SGEMM of the same shape; one N-Module training step beside the same step in PyTorch (bench/torch_anchor.py).
 // Usage: bench_nn [--json] [--device SPEC] [--quick]
 #include <cblas.h>
@@ -235,7 +235,7 @@ int main(int argc, char** argv) {
       std::printf("I-Module MLP inference, %zu rows: fused %.2f ms, per-layer GEMMs %.2f ms\n", rows, ms[1], ms[0]);
   }
 
-  // One N-Module training step (DESIGN.md §2): forward of B points, inference of N·B incident points, relative L2
+  // One N-Module training step (docs/design.md §2): forward of B points, inference of N·B incident points, relative L2
   // loss, backward, Adam over the MLP and the touched hash-grid entries.
   const std::size_t B = quick ? 4096 : 16384, N = 4;
   auto cfg = nn::n_module_config({0, 0, 0}, {1, 1, 1});

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""PyTorch CPU anchor for bench_nn: the same N-Module training step as clradiosity's (DESIGN.md §6).
+"""PyTorch CPU anchor for bench_nn: the same N-Module training step as clradiosity's (docs/design.md §6).
 
 One step = forward of B training points through hash grid + SH(w_o) + SH(n) + albedo -> 4x512 ReLU -> 3, abs;
 an inference forward of 4·B incident points without gradient; relative L2 loss against a fixed target;

@@ -1,7 +1,7 @@
 // Adam with decoupled weight decay (AdamW: p -= lr·wd·p, not folded into the moments) over one parameter buffer,
 // so a whole network is one launch. The step's gradient is consumed and zeroed here, which saves the separate
 // clearing pass before the next backward. Non-finite gradient values are dropped (that element is not updated
-// this step) and counted (DESIGN.md §7).
+// this step) and counted (docs/design.md §7).
 // c1 = 1 / (1 − β1^t), c2 = 1 / (1 − β2^t): bias corrections, computed in double on the host.
 inline void adam_apply(uint i, float gi, __global float* p, __global float* m, __global float* v, float lr, float b1,
                        float b2, float eps, float wd, float c1, float c2, volatile __global uint* non_finite) {
@@ -34,7 +34,7 @@ __kernel void adam_step(uint n, __global float* p, __global float* g, __global f
 // Lazy Adam over a table of `entries` rows of `features` floats: only rows whose `touched` flag the backward pass
 // set are updated (and their flag cleared). Untouched rows keep their moments and values, as PyTorch's SparseAdam
 // does; the bias corrections use the global step. This turns the per-step cost from the whole table into the
-// entries a batch reached (DESIGN.md §6), at the price of no momentum drift on untouched entries.
+// entries a batch reached (docs/design.md §6), at the price of no momentum drift on untouched entries.
 __kernel void adam_step_sparse(uint entries, uint features, __global uchar* touched, __global float* p,
                                __global float* g, __global float* m, __global float* v, float lr, float b1, float b2,
                                float eps, float wd, float c1, float c2, volatile __global uint* non_finite) {

@@ -1,4 +1,4 @@
-// Float atomic add as a compare-and-swap loop on the bits: PoCL 3.1 has no float atomics (DESIGN.md §5).
+// Float atomic add as a compare-and-swap loop on the bits: PoCL 3.1 has no float atomics (docs/design.md §5).
 // Sums built with it vary in order between runs, so their tests use tolerances.
 inline void atomic_add_f32(volatile __global float* addr, float value) {
   union {

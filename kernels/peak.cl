@@ -1,4 +1,4 @@
-// The device's measured FMA throughput, the ceiling that GEMM figures are reported against (DESIGN.md §6).
+// The device's measured FMA throughput, the ceiling that GEMM figures are reported against (docs/design.md §6).
 // CHAINS independent VW-wide chains per work-item hide the FMA latency; the result is stored so the chains are not
 // optimised away. Each iteration is CHAINS × VW lanes × 2 flops. The host builds it for several vector widths and
 // keeps the best: a width whose chains do not fit the register file (float16 on AVX2) spills and under-reports.

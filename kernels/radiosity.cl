@@ -1,4 +1,4 @@
-// The right-hand side of the rendering-equation residual (DESIGN.md §2) for M points with N incident samples each:
+// The right-hand side of the rendering-equation residual (docs/design.md §2) for M points with N incident samples each:
 //   rhs[m] = (1/N) Σ_n (E[m,n] + w[m,n] · L[lookup[m,n]]) / p̃[m,n]
 // w = f·cos times the throughput of any delta chain the sample passed (RGB); E = the emission (or environment)
 // the sample met, already weighted the same way, so emission part-way along a chain is exact; p̃ = the density the

@@ -1,6 +1,6 @@
 // Sums of float arrays. Each work-group reduces in local memory, then adds its partial sum atomically,
 // so one launch gives the total with n/local atomics instead of n. Needs atomics.cl before it.
-// Non-finite inputs are skipped and counted (DESIGN.md §7: drop and count non-finite samples).
+// Non-finite inputs are skipped and counted (docs/design.md §7: drop and count non-finite samples).
 __kernel void sum_f32(__global const float* x, unsigned int n, __global float* total,
                       volatile __global unsigned int* non_finite, __local float* scratch) {
   const size_t gid = get_global_id(0);

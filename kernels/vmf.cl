@@ -1,4 +1,4 @@
-// The I-Module's sampling distribution (DESIGN.md §2, §7): a mixture of VMF_LOBES von Mises–Fisher lobes on the
+// The I-Module's sampling distribution (docs/design.md §2, §7): a mixture of VMF_LOBES von Mises–Fisher lobes on the
 // sphere of directions, read from the network's VMF_RAW raw outputs per point. Lobe k owns raw[4k .. 4k+3]:
 //   λ = softmax(a) over the lobes, κ = exp(clamp(b + ln κ₀, ln κ_min, ln κ_max)), θ = π·σ(c + c₀), φ = 2π·σ(d),
 //   μ = sin θ cos φ · t + sin θ sin φ · s + cos θ · n  in the point's frame (vmf_frame) about its normal n.
@@ -167,7 +167,7 @@ __kernel void vmf_sample(__global const float* lobes, __global const float* u, u
   vstore3(vmf_sample_lobe(lp[VMF_L_KAPPA * VMF_LOBES + k], mu, u[3 * s + 1], u[3 * s + 2]), s, dirs);
 }
 
-// The one-sample mixture density each sample was drawn with (DESIGN.md §2): p̃ = c·p_bsdf + (1 − c)·q(ω), and
+// The one-sample mixture density each sample was drawn with (docs/design.md §2): p̃ = c·p_bsdf + (1 − c)·q(ω), and
 // q(ω) itself. bsdf_pdf < 0 marks a sample of a delta lobe: never guided, drawn with probability c (its weight
 // already holds the lobe's discrete probability), so p̃ = c and q = 0 there.
 __kernel void vmf_mixture_pdf(__global const float* lobes, __global const float* dirs, __global const float* bsdf_pdf,

@@ -1,5 +1,5 @@
 #pragma once
-// Platform/device enumeration and the --device SPEC rule (DESIGN.md §4):
+// Platform/device enumeration and the --device SPEC rule (docs/design.md §4):
 //   "P:D"      platform and device indices, as `clradiosity devices` prints them;
 //   otherwise  a case-insensitive substring of the platform name or vendor, the device name or its type
 //              ("pocl" matches PoCL's vendor "The pocl project"; "nvidia", "cpu", "gpu").
@@ -27,7 +27,7 @@ struct DeviceInfo {
   std::uint64_t max_alloc_bytes = 0;
   std::size_t max_work_group_size = 0;
   std::string opencl_c_version;
-  bool float_atomics = false;  // cl_ext_float_atomics; otherwise kernels use CAS loops (DESIGN.md §5)
+  bool float_atomics = false;  // cl_ext_float_atomics; otherwise kernels use CAS loops (docs/design.md §5)
   bool fp16 = false;           // cl_khr_fp16
 
   std::string spec() const { return std::to_string(platform_index) + ":" + std::to_string(device_index); }

@@ -12,7 +12,7 @@ struct Command {
   std::function<int()> run;
 };
 
-// Adds --device SPEC (DESIGN.md §4) to a computing command; CLRADIOSITY_DEVICE is its default.
+// Adds --device SPEC (docs/design.md §4) to a computing command; CLRADIOSITY_DEVICE is its default.
 void add_device_option(CLI::App& cmd, std::string& spec);
 
 Command add_devices_command(CLI::App& app);

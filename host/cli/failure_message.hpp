@@ -1,5 +1,5 @@
 #pragma once
-// The one stderr line of a runtime failure (exit 1, DESIGN.md §4). Running out of device or host memory is the
+// The one stderr line of a runtime failure (exit 1, docs/design.md §4). Running out of device or host memory is the
 // failure a user can most often fix themselves, so its line says which option of the command to lower.
 #include <exception>
 #include <string>

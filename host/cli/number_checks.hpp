@@ -1,7 +1,7 @@
 #pragma once
 // Range checks for numeric options. CLI11's own Range lets NaN through (every comparison with NaN is false) and
 // accepts "inf"; these reject both, so that an impossible value exits 2 with CLI11's one line naming the option
-// (DESIGN.md §4) instead of running with it.
+// (docs/design.md §4) instead of running with it.
 #include <CLI/CLI.hpp>
 
 namespace clr::cli {

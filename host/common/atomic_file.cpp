@@ -81,7 +81,7 @@ void require_writable_directory(const fs::path& dir, const std::string& what) {
   if (fd < 0) {
     const int err = errno;
     const std::string line = what + " " + dir.string() + ": " + std::strerror(err);
-    // A full disk or a failing device is not the user's path; everything else is (exit 2, DESIGN.md §4).
+    // A full disk or a failing device is not the user's path; everything else is (exit 2, docs/design.md §4).
     if (err == ENOSPC || err == EIO || err == EDQUOT || err == ENOMEM) throw std::runtime_error(line);
     throw InputError(line);
   }

@@ -1,5 +1,5 @@
 #pragma once
-// Progress of long work (DESIGN.md §4): on a TTY one line redrawn in place; otherwise (logs, CI) a plain line at
+// Progress of long work (docs/design.md §4): on a TTY one line redrawn in place; otherwise (logs, CI) a plain line at
 // most every `interval` seconds, so redirected output stays readable and bounded.
 #include <chrono>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // Points drawn uniformly by area over the surfaces a Neural Radiosity model learns: every shape whose BSDF has a
-// non-delta lobe (purely specular surfaces are followed at render time instead, DESIGN.md §2). One batched call
+// non-delta lobe (purely specular surfaces are followed at render time instead, docs/design.md §2). One batched call
 // per training step; sample i depends only on (seed, i), so batches are reproducible and split freely over threads.
 #include <cstdint>
 #include <span>

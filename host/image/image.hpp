@@ -1,5 +1,5 @@
 #pragma once
-// Linear RGB float images, EXR/PNG files and the metrics of DESIGN.md §4.
+// Linear RGB float images, EXR/PNG files and the metrics of docs/design.md §4.
 #include <cstddef>
 #include <filesystem>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// Checkpoint files (RUN_DIR/model.clr, DESIGN.md §4): versioned and checksummed, written atomically.
+// Checkpoint files (RUN_DIR/model.clr, docs/design.md §4): versioned and checksummed, written atomically.
 //
 //   offset 0   8 bytes  magic "CLRCKPT\n"
 //          8   u32      format version (kCheckpointVersion)

@@ -2,7 +2,7 @@
 // Multiresolution hash-grid encoding of a 3-D position (kernels/hashgrid.cl): levels × features outputs.
 // The table is trainable: backward accumulates dL/dtable (CAS atomics) and flags the entries a batch reached,
 // and adam_step() updates only those (lazy Adam, kernels/adam.cl): the dense gradient + Adam pass over a big
-// table is memory-bound on a CPU (DESIGN.md §6), while a batch touches at most rows · 8 entries per level.
+// table is memory-bound on a CPU (docs/design.md §6), while a batch touches at most rows · 8 entries per level.
 #include <array>
 #include <cstdint>
 #include <vector>

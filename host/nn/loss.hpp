@@ -1,5 +1,5 @@
 #pragma once
-// The residual loss of training (DESIGN.md §2), r² / (sg(pred)² + 0.01)^power — power 0 is L2, 1 relative L2 —
+// The residual loss of training (docs/design.md §2), r² / (sg(pred)² + 0.01)^power — power 0 is L2, 1 relative L2 —
 // with its gradient w.r.t. the prediction. Non-finite elements are dropped and counted.
 #include <cstdint>
 

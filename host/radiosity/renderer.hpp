@@ -1,5 +1,5 @@
 #pragma once
-// Rendering from a radiance field (DESIGN.md §2): camera ray → delta bounces followed → at the first modelled
+// Rendering from a radiance field (docs/design.md §2): camera ray → delta bounces followed → at the first modelled
 // surface x, Le(x) + L(x, −d). `spp` jittered camera rays per pixel, box-filtered.
 #include <functional>
 #include <span>

@@ -40,7 +40,7 @@ class Bsdf {
   virtual Rgb albedo(const Vec2& uv) const = 0;
   // 1 for Lambertian, the microfacet alpha for glossy lobes, 0 for purely specular.
   virtual float roughness() const = 0;
-  // False for purely specular materials: no light sampling there, no training points (DESIGN.md §2).
+  // False for purely specular materials: no light sampling there, no training points (docs/design.md §2).
   virtual bool has_non_delta() const = 0;
   // False when the surface is black seen from below its shading normal (wo.z ≤ 0), as Mitsuba's reflective
   // BSDFs are; true for twosided wrappers and dielectrics. Radiance leaving a black side is exactly zero, so the

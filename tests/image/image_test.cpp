@@ -1,4 +1,4 @@
-// Image files, downsampling and the metrics of DESIGN.md §4, against hand-computed values.
+// Image files, downsampling and the metrics of docs/design.md §4, against hand-computed values.
 #include "image/image.hpp"
 
 #include <gmock/gmock.h>

@@ -182,7 +182,7 @@ TEST_F(CheckpointTest, RoundTripReproducesTheNextStep) {
     EXPECT_EQ(gb, ga);
   } else {
     // A device without int64 atomics accumulates the grid gradient with float CAS loops, whose order depends on
-    // thread scheduling (DESIGN.md §5): equal up to the last bits.
+    // thread scheduling (docs/design.md §5): equal up to the last bits.
     EXPECT_TRUE(all_near(std::span<const float>(gb), std::span<const float>(ga), Tolerance{1e-5, 1e-9}));
   }
   // A config that differs in what the network computes is refused, naming the file.

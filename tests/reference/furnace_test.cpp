@@ -1,4 +1,4 @@
-// Analytic scenes (DESIGN.md §8): radiance known in closed form everywhere.
+// Analytic scenes (docs/design.md §8): radiance known in closed form everywhere.
 #include <gtest/gtest.h>
 
 #include <iostream>

@@ -1,5 +1,5 @@
 // Every class of bad scene input ends `clradiosity reference` with exit code 2 and one line naming the file, the
-// line and the element at fault (DESIGN.md §4).
+// line and the element at fault (docs/design.md §4).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 

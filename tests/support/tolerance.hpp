@@ -1,5 +1,5 @@
 #pragma once
-// The one table of tolerances for device results against double-precision host twins (DESIGN.md §8),
+// The one table of tolerances for device results against double-precision host twins (docs/design.md §8),
 // and canaries that catch kernels writing past the end of their output.
 #include <gtest/gtest.h>
 
