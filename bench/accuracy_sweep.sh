@@ -2,7 +2,7 @@
 # The speed/accuracy trade of vanilla NR on one shared scene: trains a fresh run for each budget (minutes), renders it
 # and prints one Markdown table row per budget — steps, steps/s, MAPE and relMSE against the scene's
 # TungstenRender.exr (box-downsampled to the render size), non-finite pixels, and the residual metric.
-# Each budget is its own run because the learning rate anneals over the budget (README: "Using it").
+# Each budget is its own run because the learning rate anneals over the budget (docs/method.md, "Annealing").
 #
 # Usage: bench/accuracy_sweep.sh SCENE_DIR WIDTH HEIGHT MINUTES... [-- EXTRA TRAIN FLAGS]
 #   e.g. bench/accuracy_sweep.sh ../shared/scenes/cornell-box 128 128 1 2 5 10

@@ -1,4 +1,4 @@
-// bench_allreduce: MPI_Allreduce time for the sizes of a training step's exchange (README "MPI"), beside the dense
+// bench_allreduce: MPI_Allreduce time for the sizes of a training step's exchange (docs/mpi.md), beside the dense
 // exchange it replaces. Run it as `mpirun -n 2 build/release/bench/bench_allreduce [SPARSE_KIB DENSE_KIB]`; the
 // defaults are the Cornell box's measured bytes per step at batch 4096 (`train` prints them under mpirun).
 #include <chrono>

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Figures of a `clradiosity sweep` directory (README "Sweeps"), from its results.csv and the PNGs it wrote.
+"""Figures of a `clradiosity sweep` directory (docs/sweeps.md), from its results.csv and the PNGs it wrote.
 
     python3 bench/plot_sweep.py SWEEP_DIR
 

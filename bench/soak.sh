@@ -50,7 +50,8 @@ wait "$pid" || { echo "soak: training failed:"; tail -n 3 "$run/train.out"; exit
 
 log="$run/run/log.csv"
 steps=$(tail -n 1 "$log" | cut -d, -f1)
-# Columns: step, seconds, loss, lookups, non_finite, … (README). A NaN loss would print as nan or -nan.
+# Columns: step, seconds, loss, lookups, non_finite, … (docs/cli.md, "The run directory"). A NaN loss would print
+# as nan or -nan.
 bad_loss=$(awk -F, 'NR > 1 && ($3 ~ /nan|inf/) { n++ } END { print n + 0 }' "$log")
 dropped=$(awk -F, 'NR > 1 { s += $5 } END { print s + 0 }' "$log")
 verdict=$(awk -F, -v g="$growth_pct" 'NR > 1 { t[++n] = $1; r[n] = $2; if ($2 > peak) peak = $2 }

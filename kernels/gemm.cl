@@ -2,9 +2,10 @@
 //
 // Each work-item owns a TM × (VW·NV) tile of C and keeps it in vector registers for the whole k loop; B rows are
 // loaded as VW-wide vectors and every A element is broadcast into TM·NV fused multiply-adds. On PoCL's CPU device
-// a tile that fills about half the vector registers (AVX-512: 8 rows × 2 float16; AVX2: 6 rows × float16) reaches
-// 120-160 GFLOP/s where CLBlast's untuned kernels reach 8-28 (docs/design.md §6). The host times candidate tiles per
-// device (nn/gemm.hpp) and passes the winner as TM, VW, NV; GPUs get smaller tiles.
+// a tile that fills about half the vector registers (AVX-512: 8 rows × 2 float16; AVX2: 6 rows × float16) runs
+// several times faster than CLBlast's kernels, which are untuned there (docs/design.md §6; figures in
+// docs/results/benchmarks.md). The host times candidate tiles per device (nn/gemm.hpp) and passes the winner as
+// TM, VW, NV; GPUs get smaller tiles.
 //
 // op(A) is addressed through strides, so A and Aᵀ cost the same: op(A)(m, k) = A[a_off + m·a_rs + k·a_cs].
 // B must be row-major [K × N] with unit column stride (the host transposes B when op(B) = Bᵀ).

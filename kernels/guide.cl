@@ -37,7 +37,8 @@ __kernel void guide_loss(uint points, uint samples, __global const float* lobes,
   // weights Σ p/p̃/N = F_s/F stay ≤ GUIDE_MAX_WEIGHT where the N-Module underestimates F badly (untrained, or
   // emitters near FLT_MAX), whose unbounded weights otherwise carried overflow into the I-Module's parameters. The
   // bound is loose on purpose: a rare sample that finds a lamp earns a weight of ~1/(N·its probability), and a
-  // bound of N cut what the guide learned alone on Veach Bidir (RHS variance 371 against 133 after 1000 steps).
+  // bound of N cut what the guide learned alone on Veach Bidir (docs/results/isnr.md, "The I-Module's sampler
+  // alone").
   uint bad = 0;
   float f_samples = 0.0f;
   for (uint n = 0; n < samples; ++n) {

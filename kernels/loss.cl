@@ -3,8 +3,8 @@
 // with r = pred − target_scale·target and sg a stop-gradient (the denominator is a constant): power 0 is L2, 1
 // relative L2. target_scale puts the target in the prediction's units (nn/loss.hpp). `scale`
 // (e.g. 1/n for a mean) multiplies both the loss and the gradient. Elements whose loss or gradient is not finite are
-// dropped (gradient 0, no loss) and counted (docs/design.md §7). The group size must be a power of two (tree reduction);
-// every work-item reaches every barrier.
+// dropped (gradient 0, no loss) and counted (docs/design.md §7). The group size must be a power of two (tree
+// reduction); every work-item reaches every barrier.
 __kernel void loss_l2(uint n, __global const float* pred, __global const float* target, float target_scale, float scale,
                       float power, __global float* grad, volatile __global float* total,
                       volatile __global uint* non_finite, __local float* scratch) {

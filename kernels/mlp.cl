@@ -7,8 +7,8 @@
 // work-item (16-column chunk c0, row group g) walks rows [g·rows_per_item, …) loading 16 contiguous floats per row
 // (one cache line on a CPU, a coalesced run across a GPU warp) and writes its partial sums to partial[g·cols + c];
 // bias_grad_reduce then adds the partials in a fixed order. No float atomics here, so an MLP step is
-// bit-reproducible on a given device. (Walking one column per work-item instead measured 160 ms for
-// 16384 × 512 on the CPU device, 30× slower.)
+// bit-reproducible on a given device. (Walking one column per work-item instead strides through memory a row
+// apart for every element and was far slower on the CPU device: docs/results/benchmarks.md.)
 inline float16 act_grad16(float16 d, float16 s, uint act) {
   if (act == BWD_RELU) return select((float16)(0.0f), d, s > 0.0f);
   if (act == BWD_ABS) return select(select((float16)(0.0f), -d, s < 0.0f), d, s > 0.0f);

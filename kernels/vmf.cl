@@ -7,7 +7,7 @@
 // Why a frame about the normal, and the offsets κ₀, c₀: an untrained network's outputs are near 0, which then means
 // lobes of κ = 3 at 36° from the normal — a cosine-like spread over the hemisphere the light comes from — rather
 // than κ = 1 lobes about the horizon in world space, which sent half of the guided samples below one-sided
-// surfaces and made the untrained guide 2.5× noisier than BSDF sampling.
+// surfaces and made the untrained guide noisier than BSDF sampling (docs/method.md, docs/results/isnr.md).
 // Everything is float32 and stable over κ ∈ [κ_min, κ_max] = [1e-4, 1e4] (raw values outside the clamp, ±inf
 // included, land on its ends): expm1/log1p forms, a series where a derivative cancels, log-sum-exp over lobes (never
 // a division by a q that may underflow). Host twin: tests/nn/vmf_twin.hpp.
@@ -47,7 +47,7 @@ inline float8 vmf_dlognorm_dlogkappa(float8 kappa) {
 // fields, each a float8 over the 8 lobes (field f of point m at lobes + (m·VMF_LOBE_FIELDS + f)·8), so that sampling,
 // evaluating and differentiating at many directions read them — and so that every activation, log-sum-exp and
 // gradient runs on float8: on CPU devices one vector exp/log/sincos does the 8 lobes' work at once (a lobe at a
-// time was scalar libm calls, 2.3 ms of the decode per 4096 points against 0.1 ms for the MLP's forward).
+// time was scalar libm calls, and the decode cost many times the I-Module MLP's forward: docs/results/isnr.md).
 #define VMF_LOBE_FIELDS 14
 #define VMF_L_LOGC 0     // log λ + log norm(κ): log(λ v(ω)) = LOGC + κ (μ·ω − 1)
 #define VMF_L_KAPPA 1    // κ

@@ -31,7 +31,7 @@ class Context {
   const Program& program(const std::vector<std::string>& files, const std::string& options = "");
   std::size_t programs_built() const { return programs_built_; }
 
-  // Device-memory accounting of Buffers created on this context (docs/design.md §6: report peak memory of a step).
+  // Device-memory accounting of Buffers created on this context (docs/design.md §6: peak memory is reported).
   void on_alloc(std::uint64_t bytes);
   void on_free(std::uint64_t bytes) { bytes_in_use_ -= bytes; }
   std::uint64_t bytes_in_use() const { return bytes_in_use_; }

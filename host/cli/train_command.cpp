@@ -18,7 +18,7 @@
 namespace clr::cli {
 namespace {
 
-// The exchange's cost per step as rank 0 saw it (README "MPI": the scaling model starts from these numbers).
+// The exchange's cost per step as rank 0 saw it (docs/mpi.md: the scaling model starts from these numbers).
 void print_exchange(const distributed::ExchangeStats& s, std::uint64_t steps) {
   if (steps == 0) return;
   const double n = double(steps);

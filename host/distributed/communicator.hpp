@@ -1,5 +1,5 @@
 #pragma once
-// The processes of one job (README "MPI"). Under `mpirun` in a build with MPI (CLR_MPI) every process is one rank
+// The processes of one job (docs/mpi.md). Under `mpirun` in a build with MPI (CLR_MPI) every process is one rank
 // of MPI_COMM_WORLD; otherwise — no MPI in the build, or a plain launch — the job is this process alone, MPI is
 // never initialised, and every collective below returns its input: a single process runs today's code path.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Data-parallel training's one exchange (README "MPI"): between a network's backward and its adam_step, every
+// Data-parallel training's one exchange (docs/mpi.md): between a network's backward and its adam_step, every
 // rank's gradient becomes the sum over the ranks. Each rank's loss is normalised by the global batch, so the sum is
 // the gradient of the global batch's mean, and every rank then takes the same Adam step from the same parameters.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// A distributed render's image (README "MPI"): rank r rendered rows y ≡ r (mod ranks) of a full-size image (the
+// A distributed render's image (docs/mpi.md): rank r rendered rows y ≡ r (mod ranks) of a full-size image (the
 // rest 0); rank 0 receives every rank's rows and puts them in place. Pixels are copied, never summed, so the image
 // is bit for bit the one a single process renders with per-pixel streams.
 #include "distributed/communicator.hpp"

@@ -32,7 +32,8 @@ struct MlpConfig {
   std::size_t max_chunk_rows = 65536;  // further capped by the device's max allocation
   // Small networks where the one-launch kernel (kernels/mlp_fused.cl) applies — width and outputs multiples of 16
   // and ≤ 64, 1-4 hidden layers, no output activation (the I-Module) — take it or the per-layer GEMMs: Probe times
-  // both once per device and shape (nn/probe_cache.hpp) and keeps the faster; on a 2-core AVX2 CPU the GEMMs won.
+  // both once per device and shape (nn/probe_cache.hpp) and keeps the faster: which one wins differs between CPUs
+  // (docs/results/benchmarks.md).
   enum class SmallPath { Probe, Fused, Layers } small_path = SmallPath::Probe;
 };
 

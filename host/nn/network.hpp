@@ -1,6 +1,6 @@
 #pragma once
 // A trainable network = input encoder (hash grid, SH, raw features) + MLP, each with its Adam state.
-// The trainer's view (docs/design.md §2): raw inputs [rows × kRawInputs] on the device in, outputs [rows × outputs] out.
+// The trainer's view (docs/design.md §2): raw inputs [rows × kRawInputs] on the device in, [rows × outputs] out.
 //   NetworkContext c;  net.forward_train(raw, rows, c);   // c.output(): predictions, activations kept
 //   net.backward(c, d_output);                             // accumulates parameter gradients
 //   net.adam_step();                                       // updates and clears them

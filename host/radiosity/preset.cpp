@@ -17,7 +17,7 @@ struct Preset {
   double minutes;   // the budget when none is given
   int cpu_batch;    // 0: the device's default (default_batch)
   int samples;      // N
-  const char* why;  // the measurements behind the batch, the width and N (README "Presets")
+  const char* why;  // the measurements behind the batch, the width and N (docs/presets.md)
 };
 
 // The hash table of every preset, at most (smaller where the scene's surfaces need fewer entries): at 1000 steps

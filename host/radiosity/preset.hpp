@@ -1,6 +1,6 @@
 #pragma once
 // Budget presets (`--preset preview|balanced|quality` on `train` and the main job): settings picked from the
-// measured speed/accuracy curves (README "Presets") for a budget class, the scene and the device. A preset sets
+// measured speed/accuracy curves (docs/presets.md) for a budget class, the scene and the device. A preset sets
 // the batch, the samples per point N, the N-Module's width and its hash-table size, and the budget when none is
 // given; flags given beside it override its choices.
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // `clradiosity sweep`: training time against accuracy for several methods, sample counts and seeds, beside the
-// path tracer (README "Sweeps"). Each configuration trains once, for the largest budget, and leaves a snapshot at
+// path tracer (docs/sweeps.md). Each configuration trains once, for the largest budget, and leaves a snapshot at
 // every budget on the way; each snapshot is rendered and measured into a row of SWEEP_DIR/results.csv. A stop
 // request (Ctrl-C) ends the sweep at the next safe point with every finished row kept; running it again
 // continues: finished rows are skipped, an interrupted training resumes from its checkpoint.

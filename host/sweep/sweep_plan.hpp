@@ -1,6 +1,6 @@
 #pragma once
 // What a sweep trains: every method × N × seed once, with snapshots at every time budget on the way (one run per
-// configuration, not one per budget; README "Sweeps").
+// configuration, not one per budget; docs/sweeps.md).
 #include <cstdint>
 #include <string>
 #include <vector>

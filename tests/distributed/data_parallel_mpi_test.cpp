@@ -1,5 +1,5 @@
-// Data-parallel training and distributed references across the ranks of `mpirun -np 2 clr_mpi_tests` (README
-// "MPI"). Every test runs on every rank and calls the collectives in the same order; comparisons against rank 0
+// Data-parallel training and distributed references across the ranks of `mpirun -np 2 clr_mpi_tests`
+// (docs/mpi.md). Every test runs on every rank and calls the collectives in the same order; comparisons against rank 0
 // are made on each rank, so a rank that differs fails there (and its non-zero exit fails the job).
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The CLI under `mpirun -np 2` (README "MPI"): a distributed reference is byte-identical to the single-process one;
+# The CLI under `mpirun -np 2` (docs/mpi.md): a distributed reference is byte-identical to the single-process one;
 # bad input ends the job with exit 2 and one line naming it; a rank killed mid-run ends the whole job within
 # seconds, non-zero, leaving a valid checkpoint that resumes on another rank count.
 # Usage: mpi_cli_faults.sh CLRADIOSITY MPIRUN SCENES_DIR
