@@ -7,6 +7,7 @@
 
 #include "cl/context.hpp"
 #include "cli/command.hpp"
+#include "common/run_lock.hpp"
 #include "geometry/geometry.hpp"
 #include "image/image.hpp"
 #include "radiosity/preset.hpp"
@@ -22,6 +23,8 @@ int run_main_job(double minutes, const std::string& preset) {
   const fs::path scene_path = fs::path(CLR_SCENES_DIR) / "cornell-box.xml";
   const fs::path out = fs::absolute("clradiosity-out");
   const fs::path run = out / "cornell-box-run";
+  // One main job per folder: a second one would delete the first's run below while it trains.
+  const RunLock out_lock(out);
   const auto scene = scene::load_scene(scene_path);
   const geometry::Geometry geometry(scene);
   cl::Context ctx(cl::select_device(""));
