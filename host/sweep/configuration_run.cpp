@@ -23,20 +23,20 @@ constexpr std::uint64_t kResidualSeed = 7;
 
 // A point of the run to snapshot: a time budget, or (NR) the step count an ISNR run reached at a budget.
 struct Target {
-  std::string point;  // "budget" or "steps"
+  Point point;  // Budget or Steps
   double minutes = kNone;
   std::uint64_t steps = 0;
   fs::path dir;  // its snapshot: model.clr, config.json, snapshot.json (written last: the snapshot is complete)
 
   bool reached(double seconds, std::uint64_t steps_done) const {
-    return point == "budget" ? seconds >= minutes * 60.0 : steps_done >= steps;
+    return point == Point::Budget ? seconds >= minutes * 60.0 : steps_done >= steps;
   }
   bool taken() const { return fs::exists(dir / "snapshot.json"); }
 };
 
 Row base_row(const Configuration& config, const Target& t) {
   Row r;
-  r.kind = "model";
+  r.kind = RowKind::Model;
   r.method = config.method;
   r.samples = config.samples;
   r.seed = config.seed;
@@ -63,17 +63,17 @@ std::optional<std::uint64_t> finished_steps(const fs::path& root, double max_min
 std::vector<Target> missing_targets(const SweepContext& sweep, const Configuration& config, const fs::path& root) {
   std::vector<Target> targets;
   for (double minutes : sweep.options.minutes) {
-    Target t{"budget", minutes, 0, root / budget_label(minutes)};
+    Target t{Point::Budget, minutes, 0, root / budget_label(minutes)};
     if (!has_row(sweep.rows, base_row(config, t))) targets.push_back(t);
   }
   if (config.guided()) return targets;
   const auto finished = finished_steps(root, sweep.options.minutes.back());
   for (const auto& r : sweep.rows)
-    if (r.kind == "model" && r.point == "budget" && r.method != "nr" && r.samples == config.samples &&
+    if (r.kind == RowKind::Model && r.point == Point::Budget && r.method != "nr" && r.samples == config.samples &&
         r.seed == config.seed && (!finished || r.steps <= *finished)) {
-      Target t{"steps", kNone, r.steps, root / ("steps" + std::to_string(r.steps))};
+      Target t{Point::Steps, kNone, r.steps, root / ("steps" + std::to_string(r.steps))};
       const bool listed = std::any_of(targets.begin(), targets.end(),
-                                      [&](const Target& o) { return o.point == "steps" && o.steps == r.steps; });
+                                      [&](const Target& o) { return o.point == Point::Steps && o.steps == r.steps; });
       if (!listed && !has_row(sweep.rows, base_row(config, t))) targets.push_back(t);
     }
   return targets;
@@ -124,7 +124,7 @@ void evaluate(const SweepContext& sweep, const Configuration& config, const Targ
   write_results(sweep.results, sweep.rows);
   std::printf("sweep: %s at %s: %llu steps, %.1f s, MAPE %.4g, relMSE %.4g, residual %.4g, render %.3g s\n",
               config.name().c_str(),
-              t.point == "budget" ? budget_label(t.minutes).c_str() : ("step " + std::to_string(t.steps)).c_str(),
+              t.point == Point::Budget ? budget_label(t.minutes).c_str() : ("step " + std::to_string(t.steps)).c_str(),
               static_cast<unsigned long long>(r.steps), r.seconds, r.mape, r.relmse, r.residual, r.render_seconds);
 }
 
@@ -147,7 +147,7 @@ void run_configuration(const SweepContext& sweep, const Configuration& config) {
     if (!t.taken()) pending.push_back(t);
   // Only time budgets make the run train.
   const auto budget_pending = [&] {
-    return std::any_of(pending.begin(), pending.end(), [](const Target& t) { return t.point == "budget"; });
+    return std::any_of(pending.begin(), pending.end(), [](const Target& t) { return t.point == Point::Budget; });
   };
   if (!budget_pending() || stop_requested()) return;
 
@@ -155,7 +155,7 @@ void run_configuration(const SweepContext& sweep, const Configuration& config) {
   const auto train_config = config.train_config(sweep.options.base, max_minutes);
   double first_pending_s = max_minutes * 60.0;
   for (const auto& t : pending)
-    if (t.point == "budget") first_pending_s = std::min(first_pending_s, t.minutes * 60.0);
+    if (t.point == Point::Budget) first_pending_s = std::min(first_pending_s, t.minutes * 60.0);
   std::optional<radiosity::Trainer> trainer;
   if (fs::exists(radiosity::RunDirectory::model_path(train_dir))) {
     trainer.emplace(sweep.ctx, sweep.geometry, train_config, train_dir, true);
@@ -177,7 +177,7 @@ void run_configuration(const SweepContext& sweep, const Configuration& config) {
   // one-off timed probes (the first run's construction) or of an earlier configuration's renders.
   sweep.ctx.reset_peak();
   // The hook sees every step count from here on: an equal-steps point the run has passed is out of its reach.
-  std::erase_if(pending, [&](const Target& t) { return t.point == "steps" && t.steps <= trainer->steps_done(); });
+  std::erase_if(pending, [&](const Target& t) { return t.point == Point::Steps && t.steps <= trainer->steps_done(); });
   radiosity::Trainer::RunOptions run;
   run.minutes_in_total = true;
   run.after_step = [&](double seconds) {
@@ -195,7 +195,7 @@ void run_configuration(const SweepContext& sweep, const Configuration& config) {
   // The run ends at the first step past the largest budget, after the hook's last look: that state is its model.
   if (!stop_requested())
     for (const auto& t : pending)
-      if (t.point == "budget") take_snapshot(*trainer, sweep.ctx, t);
+      if (t.point == Point::Budget) take_snapshot(*trainer, sweep.ctx, t);
   trainer.reset();  // its device memory, before rendering
   evaluate_taken();
 }

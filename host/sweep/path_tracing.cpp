@@ -18,7 +18,7 @@ constexpr std::uint64_t kFirstPassSeed = 1000;
 std::vector<const Row*> chain_points(const std::vector<Row>& rows) {
   std::vector<const Row*> points;
   for (const auto& r : rows)
-    if (r.kind == "path_tracing") points.push_back(&r);
+    if (r.kind == RowKind::PathTracing) points.push_back(&r);
   std::sort(points.begin(), points.end(), [](const Row* a, const Row* b) { return a->spp < b->spp; });
   return points;
 }
@@ -43,12 +43,12 @@ void extend_path_tracing(const geometry::Geometry& geometry, const image::Image&
     seconds = last.seconds;
     passes = points.size();
   }
-  const auto add_point = [&](const std::string& point, double budget_minutes) {
+  const auto add_point = [&](Point point, double budget_minutes) {
     image::Image mean = sum;
     for (float& v : mean.rgb) v /= float(spp);
     const auto m = image::compare(mean, reference);
     Row r;
-    r.kind = "path_tracing";
+    r.kind = RowKind::PathTracing;
     r.method = "pt";
     r.point = point;
     r.budget_minutes = budget_minutes;
@@ -67,7 +67,7 @@ void extend_path_tracing(const geometry::Geometry& geometry, const image::Image&
     rows.push_back(r);
     save();
     std::printf("path tracing: %d spp, %.2f s, MAPE %.4g%s\n", spp, seconds, m.mape,
-                point == "budget" ? (", the " + budget_label(budget_minutes) + " budget").c_str() : "");
+                point == Point::Budget ? (", the " + budget_label(budget_minutes) + " budget").c_str() : "");
   };
   const auto pass = [&](int more) {
     reference::RenderOptions options = plan.render;
@@ -84,7 +84,7 @@ void extend_path_tracing(const geometry::Geometry& geometry, const image::Image&
   if (spp == 0) {
     if (stop_requested()) return;
     pass(1);
-    add_point("progress", kNone);
+    add_point(Point::Progress, kNone);
   }
   const auto rate = [&] { return seconds / double(spp); };
   std::vector<double> budgets = plan.budgets_minutes;
@@ -94,11 +94,11 @@ void extend_path_tracing(const geometry::Geometry& geometry, const image::Image&
   // Their samples count towards the budget's image, so they cost only the passes' fixed overheads.
   while (!budgets.empty() && !stop_requested() && seconds + rate() * double(spp) <= 0.5 * budgets.front() * 60.0) {
     pass(spp);
-    add_point("progress", kNone);
+    add_point(Point::Progress, kNone);
   }
   for (double minutes : budgets) {
     const bool done = std::any_of(rows.begin(), rows.end(), [&](const Row& r) {
-      return r.kind == "path_tracing" && r.point == "budget" && r.budget_minutes == minutes;
+      return r.kind == RowKind::PathTracing && r.point == Point::Budget && r.budget_minutes == minutes;
     });
     if (done) continue;
     // Passes until the render is within 5 % of the budget: the first rate, from one sample per pixel, includes the
@@ -108,13 +108,13 @@ void extend_path_tracing(const geometry::Geometry& geometry, const image::Image&
     for (int refinement = 0; refinement < 8 && seconds < 0.95 * budget_s && !stop_requested(); ++refinement)
       pass(int(std::clamp(std::round((budget_s - seconds) / rate()), 1.0, double(1 << 24))));
     if (stop_requested()) return;
-    add_point("budget", minutes);
+    add_point(Point::Budget, minutes);
   }
   // Doubling towards the best model's error, never starting a pass expected to end past the cap.
   while (!stop_requested() && chain_points(rows).back()->mape > plan.target_mape &&
          seconds + rate() * double(spp) <= plan.cap_seconds) {
     pass(spp);
-    add_point("progress", kNone);
+    add_point(Point::Progress, kNone);
   }
 }
 

@@ -31,13 +31,37 @@ std::vector<std::string> split(const std::string& line) {
   return cells;
 }
 
+constexpr std::pair<RowKind, const char*> kKinds[] = {{RowKind::Model, "model"},
+                                                      {RowKind::PathTracing, "path_tracing"}};
+constexpr std::pair<Point, const char*> kPoints[] = {
+    {Point::Budget, "budget"}, {Point::Steps, "steps"}, {Point::Progress, "progress"}};
+
+template <typename E, std::size_t N>
+E parse_cell(const std::string& cell, const std::pair<E, const char*> (&names)[N], const std::string& where,
+             const char* column) {
+  for (const auto& [value, name] : names)
+    if (cell == name) return value;
+  throw InputError(where + ": unknown " + column + " '" + cell.substr(0, 64) + "'");
+}
+
+template <typename E, std::size_t N>
+const char* name_of(E e, const std::pair<E, const char*> (&names)[N]) {
+  for (const auto& [value, name] : names)
+    if (value == e) return name;
+  return "?";
+}
+
 }  // namespace
 
+const char* to_string(RowKind kind) { return name_of(kind, kKinds); }
+const char* to_string(Point point) { return name_of(point, kPoints); }
+
 std::string Row::key() const {
-  const std::string at = point == "budget"  ? number(budget_minutes)
-                         : point == "steps" ? std::to_string(steps)
-                                            : std::to_string(spp);
-  return kind + "/" + method + "/" + std::to_string(samples) + "/" + std::to_string(seed) + "/" + point + "/" + at;
+  const std::string at = point == Point::Budget  ? number(budget_minutes)
+                         : point == Point::Steps ? std::to_string(steps)
+                                                 : std::to_string(spp);
+  return std::string(to_string(kind)) + "/" + method + "/" + std::to_string(samples) + "/" + std::to_string(seed) +
+         "/" + to_string(point) + "/" + at;
 }
 
 std::vector<Row> read_results(const std::filesystem::path& path) {
@@ -57,11 +81,11 @@ std::vector<Row> read_results(const std::filesystem::path& path) {
     try {
       const auto real = [](const std::string& s) { return s.empty() ? kNone : std::stod(s); };
       Row r;
-      r.kind = c[0];
+      r.kind = parse_cell(c[0], kKinds, where, "kind");
       r.method = c[1];
       r.samples = std::stoi(c[2]);
       r.seed = std::stoull(c[3]);
-      r.point = c[4];
+      r.point = parse_cell(c[4], kPoints, where, "point");
       r.budget_minutes = real(c[5]);
       r.steps = std::stoull(c[6]);
       r.seconds = std::stod(c[7]);
@@ -87,11 +111,12 @@ std::vector<Row> read_results(const std::filesystem::path& path) {
 void write_results(const std::filesystem::path& path, const std::vector<Row>& rows) {
   std::string text = std::string(kHeader) + "\n";
   for (const auto& r : rows)
-    text += r.kind + "," + r.method + "," + std::to_string(r.samples) + "," + std::to_string(r.seed) + "," + r.point +
-            "," + number(r.budget_minutes) + "," + std::to_string(r.steps) + "," + number(r.seconds) + "," +
-            number(r.peak_device_mib) + "," + std::to_string(r.spp) + "," + number(r.render_seconds) + "," +
-            number(r.mape) + "," + number(r.mse) + "," + number(r.relmse) + "," + std::to_string(r.non_finite) + "," +
-            number(r.residual) + "," + number(r.residual_se) + "," + r.image + "," + r.error_map + "\n";
+    text += std::string(to_string(r.kind)) + "," + r.method + "," + std::to_string(r.samples) + "," +
+            std::to_string(r.seed) + "," + to_string(r.point) + "," + number(r.budget_minutes) + "," +
+            std::to_string(r.steps) + "," + number(r.seconds) + "," + number(r.peak_device_mib) + "," +
+            std::to_string(r.spp) + "," + number(r.render_seconds) + "," + number(r.mape) + "," + number(r.mse) + "," +
+            number(r.relmse) + "," + std::to_string(r.non_finite) + "," + number(r.residual) + "," +
+            number(r.residual_se) + "," + r.image + "," + r.error_map + "\n";
   write_text_atomically(path, text);
 }
 

@@ -13,15 +13,22 @@ namespace clr::sweep {
 
 inline constexpr double kNone = std::numeric_limits<double>::quiet_NaN();  // an empty cell
 
+// What made a row: a trained model's snapshot, or the path tracer.
+enum class RowKind { Model, PathTracing };
+// What the row measures: Budget (at `budget_minutes` of training or, for the path tracer, of rendering), Steps (a
+// model at `steps`, the step count an ISNR run reached at a budget) or Progress (a path tracer point taken on the
+// way to a model's error).
+enum class Point { Budget, Steps, Progress };
+// Their names in results.csv: model, path_tracing; budget, steps, progress.
+const char* to_string(RowKind kind);
+const char* to_string(Point point);
+
 struct Row {
-  std::string kind;    // "model" or "path_tracing"
+  RowKind kind = RowKind::Model;
   std::string method;  // nr, isnr-kl, isnr-ikl; "pt" for the path tracer
   int samples = 0;     // N incident directions per point (models)
   std::uint64_t seed = 0;
-  // What the row measures: "budget" (at `budget_minutes` of training or, for the path tracer, of rendering),
-  // "steps" (a model at `steps`, the step count an ISNR run reached at a budget) or "error" (a path tracer point
-  // taken on the way to a model's error).
-  std::string point;
+  Point point = Point::Budget;
   double budget_minutes = kNone;
   std::uint64_t steps = 0;  // training steps (models)
   double seconds = 0;       // training seconds (models), rendering seconds so far (path tracer)

@@ -135,7 +135,7 @@ void run_sweep(cl::Context& ctx, const SweepOptions& options) {
   pt.cap_seconds = o.path_tracing_cap * o.minutes.back() * 60.0;
   pt.target_mape = 0;
   for (const auto& r : rows)
-    if (r.kind == "model" && r.point == "budget" && (pt.target_mape == 0 || r.mape < pt.target_mape))
+    if (r.kind == RowKind::Model && r.point == Point::Budget && (pt.target_mape == 0 || r.mape < pt.target_mape))
       pt.target_mape = r.mape;
   if (!stop_requested())
     extend_path_tracing(geometry, reference, o.dir, pt, rows, [&] { write_results(results, rows); });

@@ -51,7 +51,7 @@ using GroupKey = std::tuple<int, double, std::string>;  // N, budget, method
 
 const Row* find_steps_row(const std::vector<Row>& rows, const Row& like, const std::string& method) {
   for (const auto& r : rows)
-    if (r.kind == "model" && r.point == "steps" && r.method == method && r.samples == like.samples &&
+    if (r.kind == RowKind::Model && r.point == Point::Steps && r.method == method && r.samples == like.samples &&
         r.seed == like.seed && r.steps == like.steps)
       return &r;
   return nullptr;
@@ -64,7 +64,7 @@ std::string tables_markdown(const std::vector<Row>& rows, const std::string& tit
   std::set<std::string> methods;
   std::set<int> samples;
   for (const auto& r : rows)
-    if (r.kind == "model" && r.point == "budget") {
+    if (r.kind == RowKind::Model && r.point == Point::Budget) {
       means[{r.samples, r.budget_minutes, r.method}].add(r);
       methods.insert(r.method);
       samples.insert(r.samples);
@@ -85,7 +85,7 @@ std::string tables_markdown(const std::vector<Row>& rows, const std::string& tit
           "\n\n| budget | seed | method | steps | time | memory | MAPE | MSE | relMSE |\n"
           "| ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n";
     for (const auto& r : rows) {
-      if (r.kind != "model" || r.point != "budget" || r.samples != n || r.method == "nr") continue;
+      if (r.kind != RowKind::Model || r.point != Point::Budget || r.samples != n || r.method == "nr") continue;
       const auto line = [&](const Row& x, const std::string& label) {
         return "| " + budget_label(r.budget_minutes) + " | " + std::to_string(r.seed) + " | " + label + " | " +
                std::to_string(x.steps) + " | " + seconds_text(x.seconds) + " | " + memory_text(x.peak_device_mib) +
@@ -114,7 +114,7 @@ std::string tables_markdown(const std::vector<Row>& rows, const std::string& tit
           " | " + g(m.of(m.residual)) + " |\n";
   }
   for (const auto& r : rows)
-    if (r.kind == "path_tracing" && r.point == "budget")
+    if (r.kind == RowKind::PathTracing && r.point == Point::Budget)
       md += "| | " + budget_label(r.budget_minutes) + " | path tracing, " + std::to_string(r.spp) + " spp | | | " +
             seconds_text(r.seconds) + " | | " + g(r.mape) + " | " + g(r.mse) + " | " + g(r.relmse) + " | |\n";
   md += "\n";
@@ -131,7 +131,7 @@ std::string tables_markdown(const std::vector<Row>& rows, const std::string& tit
     const auto nr = means.find({n, budget, "nr"});
     Mean same_steps;
     for (const auto& r : rows)
-      if (r.kind == "model" && r.point == "budget" && r.method == method && r.samples == n &&
+      if (r.kind == RowKind::Model && r.point == Point::Budget && r.method == method && r.samples == n &&
           r.budget_minutes == budget)
         if (const Row* s = find_steps_row(rows, r, "nr")) same_steps.add(*s);
     md += "| " + std::to_string(n) + " | " + budget_label(budget) + " | " +

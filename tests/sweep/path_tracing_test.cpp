@@ -39,11 +39,11 @@ TEST(SweepPathTracing, BudgetsThenDoublingToTheCapAndAContinuation) {
   EXPECT_EQ(saves, int(rows.size()));
   EXPECT_EQ(rows[0].spp, 1) << "the timed short render";
   // Doublings fill the time before the first budget (one 16×16 sample takes well under a millisecond).
-  ASSERT_EQ(rows[1].point, "progress");
+  ASSERT_EQ(rows[1].point, sweep::Point::Progress);
   EXPECT_EQ(rows[1].spp, 2);
   std::vector<sweep::Row> budgets;
   for (const auto& r : rows)
-    if (r.point == "budget") budgets.push_back(r);
+    if (r.point == sweep::Point::Budget) budgets.push_back(r);
   ASSERT_EQ(budgets.size(), 2u);
   EXPECT_EQ(budgets[0].budget_minutes, 0.005);
   EXPECT_EQ(budgets[1].budget_minutes, 0.01);
@@ -57,13 +57,13 @@ TEST(SweepPathTracing, BudgetsThenDoublingToTheCapAndAContinuation) {
   for (std::size_t i = 1; i < rows.size(); ++i) {
     EXPECT_GE(rows[i].spp, rows[i - 1].spp);
     EXPECT_GE(rows[i].seconds, rows[i - 1].seconds);
-    if (rows[i].point == "progress") {
+    if (rows[i].point == sweep::Point::Progress) {
       EXPECT_EQ(rows[i].spp, 2 * rows[i - 1].spp) << "doubling";
     }
     EXPECT_TRUE(fs::exists(dir / rows[i].image));
     EXPECT_TRUE(fs::exists(dir / rows[i].error_map));
   }
-  EXPECT_EQ(rows.back().point, "progress");
+  EXPECT_EQ(rows.back().point, sweep::Point::Progress);
   EXPECT_LE(rows.back().seconds, plan.cap_seconds * 1.2) << "a pass expected to end past the cap was started";
   // Independent passes averaged: the error falls with the samples (1 spp against hundreds: several times lower).
   EXPECT_LT(rows.back().mape, 0.5 * rows.front().mape);

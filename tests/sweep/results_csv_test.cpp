@@ -19,10 +19,9 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-sweep::Row model_row(const std::string& method, const std::string& point, double minutes, std::uint64_t steps,
-                     double mape) {
+sweep::Row model_row(const std::string& method, sweep::Point point, double minutes, std::uint64_t steps, double mape) {
   sweep::Row r;
-  r.kind = "model";
+  r.kind = sweep::RowKind::Model;
   r.method = method;
   r.samples = 4;
   r.seed = 1;
@@ -43,9 +42,9 @@ sweep::Row model_row(const std::string& method, const std::string& point, double
   return r;
 }
 
-sweep::Row pt_row(const std::string& point, double minutes, int spp, double seconds, double mape) {
+sweep::Row pt_row(sweep::Point point, double minutes, int spp, double seconds, double mape) {
   sweep::Row r;
-  r.kind = "path_tracing";
+  r.kind = sweep::RowKind::PathTracing;
   r.method = "pt";
   r.point = point;
   r.budget_minutes = minutes;
@@ -58,9 +57,9 @@ sweep::Row pt_row(const std::string& point, double minutes, int spp, double seco
 TEST(SweepResults, RoundTripAndKeys) {
   const fs::path path = fs::temp_directory_path() / ("clr_sweep_results_" + std::to_string(::getpid()) + ".csv");
   EXPECT_TRUE(sweep::read_results(path).empty()) << "no file yet: no rows";
-  const std::vector<sweep::Row> rows = {model_row("isnr-ikl", "budget", 0.5, 300, 0.25),
-                                        model_row("nr", "steps", sweep::kNone, 300, 0.3),
-                                        pt_row("budget", 0.5, 1000, 29.5, 0.125)};
+  const std::vector<sweep::Row> rows = {model_row("isnr-ikl", sweep::Point::Budget, 0.5, 300, 0.25),
+                                        model_row("nr", sweep::Point::Steps, sweep::kNone, 300, 0.3),
+                                        pt_row(sweep::Point::Budget, 0.5, 1000, 29.5, 0.125)};
   sweep::write_results(path, rows);
   const auto back = sweep::read_results(path);
   ASSERT_EQ(back.size(), rows.size());
@@ -72,8 +71,8 @@ TEST(SweepResults, RoundTripAndKeys) {
     EXPECT_EQ(std::isnan(back[i].residual), std::isnan(rows[i].residual));
   }
   // Rows differ in their keys exactly where a rerun must not mistake one for the other.
-  EXPECT_NE(rows[0].key(), model_row("isnr-ikl", "budget", 1.0, 300, 0.25).key());
-  EXPECT_NE(rows[0].key(), model_row("isnr-kl", "budget", 0.5, 300, 0.25).key());
+  EXPECT_NE(rows[0].key(), model_row("isnr-ikl", sweep::Point::Budget, 1.0, 300, 0.25).key());
+  EXPECT_NE(rows[0].key(), model_row("isnr-kl", sweep::Point::Budget, 0.5, 300, 0.25).key());
 
   std::ofstream(path, std::ios::app) << "model,nr,4,1,budget,1,x,1,1,16,1,1,1,1,0,1,1,a,b\n";
   try {
@@ -82,14 +81,23 @@ TEST(SweepResults, RoundTripAndKeys) {
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr(path.string() + ":5"));
   }
+  // Kinds and points are names from a fixed list, not free text.
+  sweep::write_results(path, rows);
+  std::ofstream(path, std::ios::app) << "model,nr,4,1,halfway,1,1,1,1,16,1,1,1,1,0,1,1,a,b\n";
+  try {
+    sweep::read_results(path);
+    FAIL() << "read an unknown point";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(path.string() + ":5: unknown point 'halfway'"));
+  }
   std::ofstream(path) << "step,seconds\n";
   EXPECT_THROW(sweep::read_results(path), InputError);
   fs::remove(path);
 }
 
 TEST(SweepResults, PathTracingTimeToAnError) {
-  const std::vector<sweep::Row> rows = {pt_row("progress", sweep::kNone, 1, 1.0, 0.4),
-                                        pt_row("budget", 0.1, 4, 4.0, 0.2)};
+  const std::vector<sweep::Row> rows = {pt_row(sweep::Point::Progress, sweep::kNone, 1, 1.0, 0.4),
+                                        pt_row(sweep::Point::Budget, 0.1, 4, 4.0, 0.2)};
   // Between two measured points: log–log interpolation (0.4 → 0.2 over 1 → 4 s; 0.2828 is half way in log).
   auto t = sweep::path_tracing_time_to(rows, 0.4 / std::sqrt(2.0));
   EXPECT_NEAR(t.seconds, 2.0, 1e-9);
@@ -104,9 +112,9 @@ TEST(SweepResults, PathTracingTimeToAnError) {
 
 TEST(SweepResults, TablesHaveThePapersThreeShapes) {
   const std::vector<sweep::Row> rows = {
-      model_row("isnr-ikl", "budget", 0.5, 300, 0.25), model_row("nr", "budget", 0.5, 700, 0.3),
-      model_row("nr", "steps", sweep::kNone, 300, 0.35), pt_row("progress", sweep::kNone, 1, 0.01, 0.9),
-      pt_row("budget", 0.5, 1000, 29.5, 0.125)};
+      model_row("isnr-ikl", sweep::Point::Budget, 0.5, 300, 0.25), model_row("nr", sweep::Point::Budget, 0.5, 700, 0.3),
+      model_row("nr", sweep::Point::Steps, sweep::kNone, 300, 0.35),
+      pt_row(sweep::Point::Progress, sweep::kNone, 1, 0.01, 0.9), pt_row(sweep::Point::Budget, 0.5, 1000, 29.5, 0.125)};
   const std::string md = sweep::tables_markdown(rows, "Sweep of test");
   for (const char* part : {"## Table 1 — equal steps", "## Table 2 — equal time", "## Table 3 — residual",
                            "against path tracing at equal error", "| 0.5min | 1 | nr, same steps | 300 |",

@@ -53,7 +53,7 @@ void expect_complete(const sweep::Row& r) {
   EXPECT_TRUE(std::isfinite(r.mape) && std::isfinite(r.mse) && std::isfinite(r.relmse)) << r.key();
   EXPECT_GT(r.seconds, 0) << r.key();
   EXPECT_GT(r.spp, 0) << r.key();
-  if (r.kind == "model") {
+  if (r.kind == sweep::RowKind::Model) {
     EXPECT_TRUE(std::isfinite(r.residual) && std::isfinite(r.residual_se)) << r.key();
     EXPECT_GT(r.steps, 0u) << r.key();
     EXPECT_GT(r.peak_device_mib, 0) << r.key();
@@ -84,9 +84,9 @@ TEST_F(SweepCli, TrainsEachConfigurationOnceAndRerunsNothing) {
   std::size_t steps_rows = 0, pt_budget = 0, pt_progress = 0;
   for (const auto& row : rows) {
     expect_complete(row);
-    if (row.kind == "model" && row.point == "budget") budget_rows[row.method].push_back(&row);
-    if (row.kind == "model" && row.point == "steps") ++steps_rows;
-    if (row.kind == "path_tracing") ++(row.point == "budget" ? pt_budget : pt_progress);
+    if (row.kind == sweep::RowKind::Model && row.point == sweep::Point::Budget) budget_rows[row.method].push_back(&row);
+    if (row.kind == sweep::RowKind::Model && row.point == sweep::Point::Steps) ++steps_rows;
+    if (row.kind == sweep::RowKind::PathTracing) ++(row.point == sweep::Point::Budget ? pt_budget : pt_progress);
   }
   ASSERT_EQ(budget_rows.size(), 2u);
   for (const auto& [method, list] : budget_rows) {
@@ -102,7 +102,7 @@ TEST_F(SweepCli, TrainsEachConfigurationOnceAndRerunsNothing) {
   }
   EXPECT_EQ(steps_rows, 2u);
   for (const auto& row : rows)
-    if (row.point == "steps") {
+    if (row.point == sweep::Point::Steps) {
       EXPECT_EQ(row.method, "nr");
       EXPECT_TRUE(std::any_of(rows.begin(), rows.end(),
                               [&](const sweep::Row& o) { return o.method == "isnr-ikl" && o.steps == row.steps; }));
@@ -112,9 +112,10 @@ TEST_F(SweepCli, TrainsEachConfigurationOnceAndRerunsNothing) {
   EXPECT_GE(pt_progress, 1u);
   int first_budget_spp = 1 << 30;
   for (const auto& row : rows)
-    if (row.kind == "path_tracing" && row.point == "budget") first_budget_spp = std::min(first_budget_spp, row.spp);
+    if (row.kind == sweep::RowKind::PathTracing && row.point == sweep::Point::Budget)
+      first_budget_spp = std::min(first_budget_spp, row.spp);
   for (const auto& row : rows)
-    if (row.kind == "path_tracing" && row.point == "progress") {
+    if (row.kind == sweep::RowKind::PathTracing && row.point == sweep::Point::Progress) {
       EXPECT_LT(row.spp, first_budget_spp);
     }
   EXPECT_EQ(rows.size(), 4 + steps_rows + pt_budget + pt_progress);
@@ -198,7 +199,7 @@ TEST_F(SweepCli, InterruptKeepsFinishedRowsAndARerunCompletes) {
   std::size_t budget_rows = 0;
   for (const auto& row : after) {
     expect_complete(row);
-    if (row.kind == "model" && row.point == "budget") {
+    if (row.kind == sweep::RowKind::Model && row.point == sweep::Point::Budget) {
       ++budget_rows;
       EXPECT_LT(row.seconds, row.budget_minutes * 60 + 0.5) << row.key();
     }
@@ -207,8 +208,9 @@ TEST_F(SweepCli, InterruptKeepsFinishedRowsAndARerunCompletes) {
   // The budget counts the training of both sessions: NR's second session trained the 0.9 s that were left, not
   // another 1.8 s (its snapshots would not show it: they are taken at the total's budgets either way).
   EXPECT_LT(nr_seconds(), 0.03 * 60 + 0.5);
-  EXPECT_TRUE(std::any_of(after.begin(), after.end(),
-                          [](const sweep::Row& row) { return row.kind == "path_tracing" && row.point == "budget"; }));
+  EXPECT_TRUE(std::any_of(after.begin(), after.end(), [](const sweep::Row& row) {
+    return row.kind == sweep::RowKind::PathTracing && row.point == sweep::Point::Budget;
+  }));
 }
 
 TEST_F(SweepCli, BadOptionsExitTwoNamingTheCulprit) {
