@@ -8,6 +8,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "common/enum_names.hpp"
 #include "common/error.hpp"
 #include "radiosity/preset.hpp"
 
@@ -33,29 +34,19 @@ void require(bool ok, const char* name, const T& value, const char* rule) {
 constexpr long long kMaxIncidentSamples = 1LL << 24;
 
 template <typename E, std::size_t N>
-E parse_name(std::string_view text, std::string_view key, const std::pair<E, const char*> (&names)[N]) {
-  std::string known;
-  for (const auto& [value, name] : names) {
-    if (text == name) return value;
-    known += (known.empty() ? "" : " or ") + std::string(name);
-  }
-  throw InputError(std::string(key) + " must be " + known + ", got \"" + std::string(text) + "\"");
+E parse_name(std::string_view text, std::string_view key, const EnumNames<E, N>& names) {
+  if (const auto value = value_named(text, names)) return *value;
+  throw InputError(std::string(key) + " must be " + choices(names) + ", got \"" + std::string(text.substr(0, 64)) +
+                   "\"");
 }
 
-template <typename E, std::size_t N>
-const char* name_of(E value, const std::pair<E, const char*> (&names)[N]) {
-  for (const auto& [v, name] : names)
-    if (v == value) return name;
-  return "?";
-}
-
-constexpr std::pair<Method, const char*> kMethods[] = {{Method::Isnr, "isnr"}, {Method::Nr, "nr"}};
-constexpr std::pair<IsLoss, const char*> kIsLosses[] = {{IsLoss::Ikl, "ikl"}, {IsLoss::Kl, "kl"}};
-constexpr std::pair<Residual, const char*> kResiduals[] = {{Residual::Relative, "relative"}, {Residual::L2, "l2"}};
+constexpr EnumNames<Method, 2> kMethods = {{Method::Isnr, "isnr"}, {Method::Nr, "nr"}};
+constexpr EnumNames<IsLoss, 2> kIsLosses = {{IsLoss::Ikl, "ikl"}, {IsLoss::Kl, "kl"}};
+constexpr EnumNames<Residual, 2> kResiduals = {{Residual::Relative, "relative"}, {Residual::L2, "l2"}};
 
 // A mode in JSON is one of its names; anything else (another type included) is an InputError naming the key.
 template <typename E, std::size_t N>
-E from_json_name(const nlohmann::json& j, const char* key, const std::pair<E, const char*> (&names)[N]) {
+E from_json_name(const nlohmann::json& j, const char* key, const EnumNames<E, N>& names) {
   if (!j.is_string()) return parse_name(j.dump(), key, names);
   return parse_name(j.get_ref<const std::string&>(), key, names);
 }

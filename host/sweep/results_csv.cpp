@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/atomic_file.hpp"
+#include "common/enum_names.hpp"
 #include "common/error.hpp"
 
 namespace clr::sweep {
@@ -31,24 +32,14 @@ std::vector<std::string> split(const std::string& line) {
   return cells;
 }
 
-constexpr std::pair<RowKind, const char*> kKinds[] = {{RowKind::Model, "model"},
-                                                      {RowKind::PathTracing, "path_tracing"}};
-constexpr std::pair<Point, const char*> kPoints[] = {
+constexpr EnumNames<RowKind, 2> kKinds = {{RowKind::Model, "model"}, {RowKind::PathTracing, "path_tracing"}};
+constexpr EnumNames<Point, 3> kPoints = {
     {Point::Budget, "budget"}, {Point::Steps, "steps"}, {Point::Progress, "progress"}};
 
 template <typename E, std::size_t N>
-E parse_cell(const std::string& cell, const std::pair<E, const char*> (&names)[N], const std::string& where,
-             const char* column) {
-  for (const auto& [value, name] : names)
-    if (cell == name) return value;
-  throw InputError(where + ": unknown " + column + " '" + cell.substr(0, 64) + "'");
-}
-
-template <typename E, std::size_t N>
-const char* name_of(E e, const std::pair<E, const char*> (&names)[N]) {
-  for (const auto& [value, name] : names)
-    if (value == e) return name;
-  return "?";
+E parse_cell(const std::string& cell, const EnumNames<E, N>& names, const std::string& where, const char* column) {
+  if (const auto value = value_named(cell, names)) return *value;
+  throw InputError(where + ": unknown " + column + " '" + cell.substr(0, 64) + "' (" + choices(names) + ")");
 }
 
 }  // namespace
