@@ -29,17 +29,18 @@ Command add_compare_command(CLI::App& app) {
             const auto ref = image::match_size(image::read_exr(opt->reference), img);
             const auto m = image::compare(img, ref);
             if (!opt->error_map.empty()) image::write_png(opt->error_map, image::error_map(img, ref));
-            if (m.non_finite)
-              std::cerr << "clradiosity: warning: " << m.non_finite << " non-finite values excluded from the metrics\n";
             if (opt->json) {
-              std::cout << nlohmann::json{{"mape", m.mape},     {"mse", m.mse},
-                                          {"relmse", m.relmse}, {"non_finite", m.non_finite},
-                                          {"width", img.width}, {"height", img.height}}
+              std::cout << nlohmann::json{{"mape", m.mape},
+                                          {"mse", m.mse},
+                                          {"relmse", m.relmse},
+                                          {"non_finite", m.non_finite},
+                                          {"reference_non_finite", m.reference_non_finite},
+                                          {"width", img.width},
+                                          {"height", img.height}}
                                .dump()
                         << "\n";
             } else {
-              std::printf("MAPE %.6g  MSE %.6g  relMSE %.6g  (%dx%d)\n", m.mape, m.mse, m.relmse, img.width,
-                          img.height);
+              std::printf("%s  (%dx%d)\n", image::describe(m).c_str(), img.width, img.height);
             }
             return 0;
           }};

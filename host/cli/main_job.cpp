@@ -60,9 +60,9 @@ int run_main_job(double minutes, const std::string& preset) {
   }
   const auto ref = image::read_exr(ref_path);
   const auto m = image::compare(img, ref);
-  std::printf("trained %llu steps; images: %s, %s\nreference (path traced): %s\nMAPE %.4f  MSE %.4g  relMSE %.4g\n",
+  std::printf("trained %llu steps; images: %s, %s\nreference (path traced): %s\n%s\n",
               static_cast<unsigned long long>(trainer.steps_done()), (out / "cornell-box.exr").c_str(),
-              (out / "cornell-box.png").c_str(), ref_path.c_str(), m.mape, m.mse, m.relmse);
+              (out / "cornell-box.png").c_str(), ref_path.c_str(), image::describe(m).c_str());
   return 0;
 }
 

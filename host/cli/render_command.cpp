@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "cl/context.hpp"
 #include "cli/command.hpp"
@@ -68,19 +69,22 @@ Command add_render_command(CLI::App& app) {
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
             auto network = radiosity::RunDirectory::load_radiance(ctx, opt->model);
+            // A reference that cannot be read fails before the render, not after it.
+            std::optional<image::Image> reference;
+            if (!opt->reference.empty()) reference = image::read_exr(opt->reference);
             const auto img = radiosity::render(geometry, radiosity::radiance_query(ctx, *network), opt->settings);
             image::write_exr(opt->output, img);
             if (!opt->png.empty()) image::write_png(opt->png, img);
             std::cout << "image: " << opt->output << (opt->png.empty() ? "" : ", " + opt->png) << "\n";
-            if (!opt->reference.empty()) {
-              const auto ref = image::match_size(image::read_exr(opt->reference), img);
+            if (reference) {
+              const auto ref = image::match_size(*reference, img);
               const auto m = image::compare(img, ref);
               const std::string map =
                   !opt->error_map.empty()
                       ? opt->error_map
                       : std::filesystem::path(opt->output).replace_extension().string() + "_error.png";
               image::write_png(map, image::error_map(img, ref));
-              std::printf("MAPE %.6g  MSE %.6g  relMSE %.6g  (error map: %s)\n", m.mape, m.mse, m.relmse, map.c_str());
+              std::printf("%s  (error map: %s)\n", image::describe(m).c_str(), map.c_str());
             }
             return 0;
           }};

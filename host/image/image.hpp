@@ -41,13 +41,20 @@ Image box_downsample(const Image& img, int factor);
 Image match_size(const Image& ref, const Image& like);
 
 struct Metrics {
-  double mape = 0;             // mean(|a−b| / (|b| + 0.01))
-  double mse = 0;              // mean((a−b)²)
-  double relmse = 0;           // mean((a−b)² / (b² + 0.01))
-  std::size_t non_finite = 0;  // pixels·channels of `a` that were NaN/inf (counted, excluded from the means)
+  double mape = 0;    // mean(|a−b| / (|b| + 0.01))
+  double mse = 0;     // mean((a−b)²)
+  double relmse = 0;  // mean((a−b)² / (b² + 0.01))
+  // Values (pixels·channels) of the image under test that are NaN or infinite. A model or renderer that produced
+  // them has failed there, and no mean over the rest may hide it: the three metrics are then NaN.
+  std::size_t non_finite = 0;
+  // Non-finite values of the reference: those positions are left out of the means (a reference's fault is not the
+  // image's), and counted.
+  std::size_t reference_non_finite = 0;
 };
 // Over all pixels and channels; images must have equal size.
 Metrics compare(const Image& a, const Image& ref);
+// "MAPE …  MSE …  relMSE …", followed by the non-finite counts where there are any.
+std::string describe(const Metrics& m);
 
 // Per-pixel relative error |a−b|/(|b|+0.01) (channel mean) as a false-colour map, 0 → blue … ≥ max_error → red.
 Image error_map(const Image& a, const Image& ref, float max_error = 1.0f);

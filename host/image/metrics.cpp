@@ -1,5 +1,7 @@
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <string>
 
 #include "common/error.hpp"
@@ -42,24 +44,36 @@ Metrics compare(const Image& a, const Image& ref) {
     throw InputError("cannot compare " + size_text(a) + " with " + size_text(ref));
   Metrics m;
   double mape = 0, mse = 0, relmse = 0;
+  std::size_t used = 0;
   for (std::size_t i = 0; i < a.rgb.size(); ++i) {
     const double x = a.rgb[i], r = ref.rgb[i];
-    if (!std::isfinite(x) || !std::isfinite(r)) {
-      ++m.non_finite;
-      continue;
-    }
+    if (!std::isfinite(x)) ++m.non_finite;
+    if (!std::isfinite(r)) ++m.reference_non_finite;
+    if (!std::isfinite(x) || !std::isfinite(r)) continue;
+    ++used;
     const double d = x - r;
     mape += std::abs(d) / (std::abs(r) + 0.01);
     mse += d * d;
     relmse += d * d / (r * r + 0.01);
   }
-  const double n = double(a.rgb.size() - m.non_finite);
-  if (n > 0) {
-    m.mape = mape / n;
-    m.mse = mse / n;
-    m.relmse = relmse / n;
+  if (m.non_finite > 0 || used == 0) {
+    m.mape = m.mse = m.relmse = std::numeric_limits<double>::quiet_NaN();
+  } else {
+    m.mape = mape / double(used);
+    m.mse = mse / double(used);
+    m.relmse = relmse / double(used);
   }
   return m;
+}
+
+std::string describe(const Metrics& m) {
+  char text[160];
+  std::snprintf(text, sizeof text, "MAPE %.6g  MSE %.6g  relMSE %.6g", m.mape, m.mse, m.relmse);
+  std::string s = text;
+  if (m.non_finite) s += "  (" + std::to_string(m.non_finite) + " non-finite values in the image: metrics undefined)";
+  if (m.reference_non_finite)
+    s += "  (" + std::to_string(m.reference_non_finite) + " non-finite values in the reference, left out)";
+  return s;
 }
 
 Image error_map(const Image& a, const Image& ref, float max_error) {

@@ -85,13 +85,29 @@ TEST(Metrics, MatchHandComputedValues) {
   EXPECT_EQ(compare(b, b).mape, 0.0);
 }
 
-TEST(Metrics, NonFiniteValuesAreCountedNotAveraged) {
+TEST(Metrics, NonFiniteValuesInTheImageMakeEveryMetricNonFinite) {
   Image a(2, 1), b(2, 1);
-  a.rgb = {1, 1, 1, std::numeric_limits<float>::quiet_NaN(), 1, 1};
   b.rgb = {1, 1, 1, 1, 1, 1};
+  for (const float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+    a.rgb = {1, 1, 1, bad, 1, 1};
+    const Metrics m = compare(a, b);
+    EXPECT_EQ(m.non_finite, 1u);
+    EXPECT_TRUE(std::isnan(m.mape) && std::isnan(m.mse) && std::isnan(m.relmse)) << "a mean over the rest hid it";
+    EXPECT_THAT(describe(m), HasSubstr("1 non-finite values in the image"));
+  }
+  a.rgb.assign(6, std::numeric_limits<float>::quiet_NaN());
+  EXPECT_TRUE(std::isnan(compare(a, b).mape)) << "an all-NaN image scored as perfect";
+}
+
+TEST(Metrics, NonFiniteReferenceValuesAreLeftOutAndCounted) {
+  Image a(2, 1), b(2, 1);
+  a.rgb = {1, 1, 1, 2, 2, 2};
+  b.rgb = {1, 1, 1, std::numeric_limits<float>::quiet_NaN(), 2, 2};
   const Metrics m = compare(a, b);
-  EXPECT_EQ(m.non_finite, 1u);
+  EXPECT_EQ(m.non_finite, 0u);
+  EXPECT_EQ(m.reference_non_finite, 1u);
   EXPECT_EQ(m.mse, 0.0);
+  EXPECT_THAT(describe(m), HasSubstr("1 non-finite values in the reference"));
 }
 
 TEST(Metrics, ReferenceIsDownsampledOnlyByAnIntegerFactor) {
