@@ -9,6 +9,7 @@
 #include "cli/failure_message.hpp"
 #include "common/error.hpp"
 #include "common/progress.hpp"
+#include "common/stop_signal.hpp"
 #include "distributed/communicator.hpp"
 #include "radiosity/preset.hpp"
 
@@ -32,6 +33,9 @@ std::string rank_prefix() {
   return ranks.distributed() ? "rank " + std::to_string(ranks.rank()) + ": " : "";
 }
 
+// Work that a signal stopped at a safe point ends with the exit status of a process that signal ended.
+int stopped_by_signal(int code) { return code == 0 && clr::stop_signal() != 0 ? 128 + clr::stop_signal() : code; }
+
 int run(int argc, char** argv) {
   CLI::App app{"clradiosity: Importance-Sampling-Guided Neural Radiosity on OpenCL devices", "clradiosity"};
   app.set_version_flag("--version", std::string("clradiosity ") + CLR_VERSION);
@@ -54,9 +58,9 @@ int run(int argc, char** argv) {
         if (!preset.empty())
           throw clr::InputError("--preset before '" + c.app->get_name() + "' belongs to the main job; put it after it");
         command = c.app->get_name();
-        return c.run();
+        return stopped_by_signal(c.run());
       }
-    return clr::cli::run_main_job(kMainJobMinutes, preset);
+    return stopped_by_signal(clr::cli::run_main_job(kMainJobMinutes, preset));
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {

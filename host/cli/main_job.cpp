@@ -8,6 +8,7 @@
 #include "cl/context.hpp"
 #include "cli/command.hpp"
 #include "common/run_lock.hpp"
+#include "common/stop_signal.hpp"
 #include "geometry/geometry.hpp"
 #include "image/image.hpp"
 #include "radiosity/preset.hpp"
@@ -43,6 +44,7 @@ int run_main_job(double minutes, const std::string& preset) {
   fs::remove_all(run);
   radiosity::Trainer trainer(ctx, geometry, config, run, false);
   trainer.run();
+  if (stop_requested()) return 0;  // the first Ctrl-C ends the whole job: no render, no reference
 
   radiosity::RenderSettings settings;
   settings.spp = 16;

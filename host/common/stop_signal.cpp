@@ -6,8 +6,10 @@
 namespace clr {
 namespace {
 std::atomic<bool> g_stop{false};
+std::atomic<int> g_signal{0};
 
 extern "C" void on_stop_signal(int sig) {
+  g_signal.store(sig);
   g_stop.store(true);
   std::signal(sig, SIG_DFL);  // a second Ctrl-C kills at once
 }
@@ -21,6 +23,7 @@ void install_stop_handlers() {
 }
 
 bool stop_requested() { return g_stop.load(); }
+int stop_signal() { return g_signal.load(); }
 void request_stop() { g_stop.store(true); }
 
 }  // namespace clr

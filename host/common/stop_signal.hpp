@@ -1,10 +1,13 @@
 #pragma once
-// SIGINT/SIGTERM ask long work to stop at its next safe point (a trainer writes a checkpoint, then exits 0)
-// instead of killing the process mid-write. A second signal falls back to the default action.
+// SIGINT/SIGTERM ask long work to stop at its next safe point (a trainer writes a checkpoint) instead of killing
+// the process mid-write; the process then exits 128 + the signal's number (130, 143), as a shell reports a process
+// the signal ended, so that `train && render` does not go on. A second signal falls back to the default action.
 namespace clr {
 
 void install_stop_handlers();
 bool stop_requested();
+// The signal that asked for the stop (0: none, or request_stop()).
+int stop_signal();
 void request_stop();  // what the handlers do; also for tests
 
 }  // namespace clr

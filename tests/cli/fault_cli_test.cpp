@@ -77,8 +77,40 @@ TEST_F(FaultCli, TerminateWritesACheckpointAndExitsCleanly) {
   int status = 0;
   ASSERT_EQ(waitpid(pid, &status, 0), pid);
   ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_EQ(WEXITSTATUS(status), 143) << "a clean stop by SIGTERM exits 128 + 15";
   EXPECT_NO_THROW(nn::read_checkpoint((run / "model.clr").string()));
+}
+
+// The main job is a run like any other: a second one in the same folder is refused instead of deleting the
+// first's run, and the first signal ends the whole job (no render, no 1024-spp reference) with 128 + the signal.
+TEST_F(FaultCli, MainJobLocksItsFolderAndStopsAtTheFirstSignal) {
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    dup2(null, 1);
+    dup2(null, 2);
+    if (::chdir(dir.c_str()) != 0) _exit(126);
+    execl(CLR_CLI_PATH, "clradiosity", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const fs::path out = dir / "clradiosity-out";
+  ASSERT_TRUE(wait_for_lines(out / "cornell-box-run" / "log.csv", 2)) << "the main job did not start logging";
+  const fs::path cwd = fs::current_path();
+  fs::current_path(dir);
+  const auto second = run_cli("");
+  fs::current_path(cwd);
+  EXPECT_EQ(second.exit_code, 2) << second.err;
+  EXPECT_THAT(second.err, HasSubstr("in use"));
+  EXPECT_TRUE(fs::exists(out / "cornell-box-run" / "log.csv")) << "the second job deleted the first's run";
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 143);
+  EXPECT_FALSE(fs::exists(out / "cornell-box-reference-1024spp.exr")) << "went on to the reference after SIGTERM";
+  EXPECT_FALSE(fs::exists(out / "cornell-box.exr"));
+  EXPECT_NO_THROW(nn::read_checkpoint((out / "cornell-box-run" / "model.clr").string()));
 }
 
 bool temporary_in(const fs::path& run) {
