@@ -7,6 +7,9 @@ namespace clr {
 namespace {
 std::atomic<bool> g_stop{false};
 std::atomic<int> g_signal{0};
+std::atomic<unsigned> g_continued{0};
+
+extern "C" void on_continue(int) { g_continued.fetch_add(1); }
 
 extern "C" void on_stop_signal(int sig) {
   g_signal.store(sig);
@@ -20,10 +23,16 @@ extern "C" void on_stop_signal(int sig) {
 void install_stop_handlers() {
   std::signal(SIGINT, on_stop_signal);
   std::signal(SIGTERM, on_stop_signal);
+  struct sigaction continued {};
+  continued.sa_handler = on_continue;
+  continued.sa_flags = SA_RESTART;  // a pause must not fail a read or write with EINTR
+  sigemptyset(&continued.sa_mask);
+  sigaction(SIGCONT, &continued, nullptr);
 }
 
 bool stop_requested() { return g_stop.load(); }
 int stop_signal() { return g_signal.load(); }
+unsigned continue_count() { return g_continued.load(); }
 void request_stop() { g_stop.store(true); }
 
 }  // namespace clr

@@ -9,5 +9,8 @@ bool stop_requested();
 // The signal that asked for the stop (0: none, or request_stop()).
 int stop_signal();
 void request_stop();  // what the handlers do; also for tests
+// How often the process was continued after a stop (SIGSTOP, Ctrl-Z, a debugger) since the handlers were installed:
+// work that times itself sees the pause inside the interval in which this count changed.
+unsigned continue_count();
 
 }  // namespace clr

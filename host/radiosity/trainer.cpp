@@ -151,7 +151,10 @@ void Trainer::run(const RunOptions& options) {
   install_stop_handlers();
   const double budget_s = config_.minutes * 60.0;
   const auto start = std::chrono::steady_clock::now();
-  double outside_s = 0;  // spent in options.after_step: not training time
+  // Not training time: spent in options.after_step, or stopped (SIGSTOP, Ctrl-Z) — a pause counted as training
+  // would end the budget at once, unannealed.
+  double outside_s = 0;
+  double typical_step_s = 0;  // the last uninterrupted loop iteration: what a paused one is counted as
   const auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - outside_s;
   };
@@ -214,6 +217,8 @@ void Trainer::run(const RunOptions& options) {
     guided = 0;
   };
   while (ranks.max(stop_requested() ? 1.0 : 0.0) == 0.0) {
+    const unsigned continued = continue_count();
+    const double iteration_start = elapsed();
     const double fraction = ranks.max(spent());
     if (fraction >= 1.0) break;
     lr_scale = config_.learning_rate_scale(fraction);
@@ -229,6 +234,11 @@ void Trainer::run(const RunOptions& options) {
     if (now % config_.log_every == 0) log_row(now);
     if (now % kRankCheckEvery == 0) check_ranks_agree(std::uint64_t(now));
     if (now % config_.checkpoint_every == 0) save_checkpoint();
+    const double iteration_s = elapsed() - iteration_start;
+    if (continue_count() != continued)
+      outside_s += std::max(0.0, iteration_s - typical_step_s);
+    else
+      typical_step_s = iteration_s;
     progress.update(config_.steps > 0 ? double(now) : budget_before_s + elapsed(), last);
     seconds_this_session_ = elapsed();
     if (options.after_step) {

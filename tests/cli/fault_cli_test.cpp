@@ -113,6 +113,37 @@ TEST_F(FaultCli, MainJobLocksItsFolderAndStopsAtTheFirstSignal) {
   EXPECT_NO_THROW(nn::read_checkpoint((out / "cornell-box-run" / "model.clr").string()));
 }
 
+// Time is training time: a process stopped (SIGSTOP, Ctrl-Z) and continued must not count the pause, or its time
+// budget would be spent at once and the learning rate never annealed.
+TEST_F(FaultCli, APauseIsNotTrainingTime) {
+  const fs::path run = dir / "run";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    dup2(null, 1);
+    dup2(null, 2);
+    execl(CLR_CLI_PATH, "clradiosity", "train", kBox.c_str(), "--minutes", "0.05", "--config", config.c_str(), "-o",
+          run.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  ASSERT_TRUE(wait_for_lines(run / "log.csv", 3)) << "training did not start logging";
+  ::kill(pid, SIGSTOP);
+  std::this_thread::sleep_for(std::chrono::seconds(4));  // longer than the whole 3-second budget
+  const std::size_t rows_at_pause = lines_in(run / "log.csv");
+  ::kill(pid, SIGCONT);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_GT(lines_in(run / "log.csv"), rows_at_pause + 2) << "the run ended at the first step after the pause";
+  std::ifstream in(run / "log.csv");
+  std::string line, last;
+  while (std::getline(in, line)) last = line;
+  const double seconds = std::stod(last.substr(last.find(',') + 1));
+  EXPECT_LT(seconds, 3.0 + 1.0) << "the 4-second pause was counted as training";
+}
+
 bool temporary_in(const fs::path& run) {
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(run, ec))
