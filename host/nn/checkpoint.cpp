@@ -8,6 +8,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 
 namespace clr::nn {
 namespace {
@@ -100,11 +101,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
 }
 
 Checkpoint read_checkpoint(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("checkpoint " + path + ": cannot open the file");
-  // A device (/dev/zero) or FIFO would be read until memory runs out.
-  if (!std::filesystem::is_regular_file(path)) throw InputError("checkpoint " + path + ": not a regular file");
-  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string data = read_input_text(path, "checkpoint");
   if (data.size() < kHeader)
     throw InputError("checkpoint " + path + ": truncated header (" + std::to_string(data.size()) + " bytes)");
   if (std::memcmp(data.data(), kMagic, sizeof(kMagic)) != 0)

@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "nn/checkpoint.hpp"
 
 namespace clr::nn {
@@ -168,7 +169,7 @@ NetworkConfig network_config_from_json(const nlohmann::json& j) {
       if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
         const bool negative = x.is_number_integer() && !x.is_number_unsigned() && x.template get<long long>() < 0;
         if (!x.is_number_integer() || (std::is_unsigned_v<T> && negative))
-          throw InputError("network config entry '" + at + "' must be a non-negative integer, got " + x.dump());
+          throw InputError("network config entry '" + at + "' must be a non-negative integer, got " + clip(x.dump()));
       }
       v = x.template get<T>();
     };
@@ -215,8 +216,11 @@ NetworkConfig network_config_from_json(const nlohmann::json& j) {
       get(a, "adam.", "decay_interval", c.adam.decay_interval);
     }
   } catch (const nlohmann::json::exception& e) {
-    throw InputError("network config entry '" + at + "': " + e.what());
+    throw InputError("network config entry '" + at + "': " + clip(e.what(), 200));
   }
+  nlohmann::json kept = to_json(c);
+  kept["output_scale"] = c.output_scale;  // to_json leaves out the default
+  require_known_and_kept(j, kept, "network config");
   validate(c);
   return c;
 }
@@ -327,12 +331,7 @@ Checkpoint Network::checkpoint(const std::string& rng_state) const {
 
 std::string Network::load(const std::string& path) {
   const Checkpoint c = read_checkpoint(path);
-  nlohmann::json saved;
-  try {
-    saved = nlohmann::json::parse(c.config_json);
-  } catch (const nlohmann::json::exception&) {
-    throw InputError("checkpoint " + path + ": the stored config is not valid JSON");
-  }
+  nlohmann::json saved = parse_json(c.config_json, "the network config of checkpoint " + path);
   // The GEMM backend and chunking change how, not what, the network computes, and the seed only the initial
   // parameters that loading overwrites: they may differ.
   auto mine = to_json(config_);

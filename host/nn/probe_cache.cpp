@@ -7,6 +7,7 @@
 
 #include "cl/error.hpp"
 #include "common/atomic_file.hpp"
+#include "common/input_file.hpp"
 
 namespace clr::nn {
 namespace {
@@ -35,9 +36,9 @@ std::string cache_file() {
 ProbeCache::ProbeCache(const cl::Context& ctx)
     : file_(cache_file()), key_(ctx.device().platform_name + " | " + ctx.device().name + " | " + device_driver(ctx)) {
   if (file_.empty()) return;
-  std::ifstream in(file_);
+  // The cache is ours, not the user's: one that cannot be read (a damaged file, a FIFO in its place) is probed anew.
   try {
-    if (in) cache_ = nlohmann::json::parse(in);
+    if (std::filesystem::exists(file_)) cache_ = read_json_file(file_, "GEMM probe cache");
     if (!cache_.is_object() || (cache_.contains(key_) && !cache_[key_].is_object())) cache_ = nlohmann::json::object();
   } catch (const std::exception&) {
     cache_ = nlohmann::json::object();

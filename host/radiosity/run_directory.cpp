@@ -9,6 +9,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "nn/checkpoint.hpp"
 #include "radiosity/trained_model.hpp"
 
@@ -18,20 +19,6 @@ namespace {
 
 constexpr const char* kLogHeader = "step,seconds,loss,lookups,non_finite,learning_rate,residual_power";
 constexpr const char* kGuideLogColumns = ",guide_loss,guided_share";  // isnr runs only
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError("cannot read " + path.string());
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-nlohmann::json read_json(const fs::path& path) {
-  try {
-    return nlohmann::json::parse(read_text(path));
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError("malformed JSON in " + path.string() + ": " + e.what());
-  }
-}
 
 // A run killed (SIGKILL, power loss) while writing leaves write_atomically's temporary ("model.clr.tmp<pid>")
 // beside the intact file. The caller holds the run's lock, so no live writer owns one: they are removed on resume
@@ -54,7 +41,7 @@ void remove_stale_temporaries(const fs::path& dir) {
 // The training time the run's sessions have logged: the `seconds` column of log.csv's last row (0 for a log with
 // a header alone).
 double logged_seconds(const fs::path& log_file) {
-  std::istringstream log(read_text(log_file));
+  std::istringstream log(read_input_text(log_file, "run log"));
   std::string line, last;
   long number = 0, last_number = 0;
   while (std::getline(log, line)) {
@@ -107,7 +94,7 @@ RunDirectory RunDirectory::resume(const fs::path& dir) {
 
 TrainConfig RunDirectory::load_config(const fs::path& run) {
   const fs::path file = config_path(run);
-  nlohmann::json saved = read_json(file);
+  nlohmann::json saved = read_json_file(file, "run config");
   if (saved.is_object() && !saved.contains("method")) saved["method"] = to_string(Method::Nr);
   try {
     return parse_train_config(saved);
@@ -147,7 +134,7 @@ std::unique_ptr<nn::Network> RunDirectory::load_radiance(cl::Context& ctx, const
 
 std::unique_ptr<nn::Network> RunDirectory::load_guide(cl::Context& ctx, const fs::path& run) {
   const fs::path file = config_path(run);
-  const nlohmann::json config = read_json(file);
+  const nlohmann::json config = read_json_file(file, "run config");
   if (config.value("method", to_string(Method::Nr)) != std::string(to_string(Method::Isnr)) ||
       !config.contains("guide"))
     throw InputError(run.string() + " was trained without an I-Module (method nr): there is no guide to read");

@@ -10,6 +10,8 @@
 
 #include "common/enum_names.hpp"
 #include "common/error.hpp"
+#include "common/input_file.hpp"
+#include "nn/network.hpp"
 #include "radiosity/preset.hpp"
 
 namespace clr::radiosity {
@@ -24,7 +26,7 @@ void require(bool ok, const char* name, const T& value, const char* rule) {
     text << std::setprecision(9) << value;
     got = text.str();
   } else {
-    got = nlohmann::json(value).dump();
+    got = clip(nlohmann::json(value).dump());
   }
   throw InputError(std::string(name) + " must be " + rule + ", got " + got);
 }
@@ -86,6 +88,13 @@ void TrainConfig::validate() const {
   require(checkpoint_every >= 1, "checkpoint_every", checkpoint_every, ">= 1");
   require(network.is_object(), "network", network, "an object");
   require(guide.is_object(), "guide", guide, "an object");
+  // The modules' patches are checked now, not once a scene has been loaded: both modules have the keys of a
+  // default network.
+  for (const auto& [key, patch] : {std::pair{"network", &network}, std::pair{"guide", &guide}}) try {
+      nn::merge_patch(nn::NetworkConfig{}, *patch);
+    } catch (const InputError& e) {
+      throw InputError(std::string(key) + ": " + e.what());
+    }
 }
 
 double TrainConfig::learning_rate_scale(double progress) const {
@@ -105,31 +114,30 @@ double TrainConfig::relative_power(double progress) const {
 }
 
 TrainConfig parse_train_config(const nlohmann::json& j, const TrainConfig& base) {
-  if (!j.is_object()) throw InputError("training config must be a JSON object, got " + j.dump());
+  if (!j.is_object()) throw InputError("training config must be a JSON object, got " + clip(j.dump()));
   const nlohmann::json defaults = base;
   for (const auto& [key, value] : j.items()) {
-    if (!defaults.contains(key)) throw InputError("unknown training config key '" + key + "'");
+    if (!defaults.contains(key)) throw InputError("unknown training config key '" + clip(key) + "'");
     const auto& want = defaults[key];
     const bool same_kind = (want.is_number() && value.is_number()) || want.type() == value.type();
     const bool integral_ok = !want.is_number_integer() || value.is_number_integer() ||
                              (value.is_number_unsigned() && want.is_number_unsigned());
     if (!same_kind || !integral_ok)
-      throw InputError("training config key '" + key + "' should be a " + want.type_name() + ", got " + value.dump());
+      throw InputError("training config key '" + key + "' should be a " + want.type_name() + ", got " +
+                       clip(value.dump()));
   }
   nlohmann::json merged = defaults;
   merged.update(j);
   TrainConfig c = merged.get<TrainConfig>();
+  require_known_and_kept(j, nlohmann::json(c), "training config");
   c.validate();
   return c;
 }
 
 TrainConfig load_train_config(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError("config file not found: " + path);
+  const nlohmann::json j = read_json_file(path, "config file");
   try {
-    return parse_train_config(nlohmann::json::parse(in));
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError("malformed JSON in " + path + ": " + e.what());
+    return parse_train_config(j);
   } catch (const InputError& e) {
     throw InputError(path + ": " + e.what());
   }

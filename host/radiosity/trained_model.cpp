@@ -2,6 +2,7 @@
 
 #include "cl/buffer.hpp"
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "nn/checkpoint.hpp"
 
 namespace clr::radiosity {
@@ -20,12 +21,7 @@ void require_tensors(const nn::Checkpoint& c, const std::string& path, const nn:
 
 std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesystem::path& checkpoint) {
   const nn::Checkpoint c = nn::read_checkpoint(checkpoint.string());
-  nlohmann::json config;
-  try {
-    config = nlohmann::json::parse(c.config_json);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError("checkpoint " + checkpoint.string() + ": malformed network config: " + e.what());
-  }
+  const nlohmann::json config = parse_json(c.config_json, "the network config of checkpoint " + checkpoint.string());
   nn::NetworkConfig network_config;
   try {
     network_config = nn::network_config_from_json(config);

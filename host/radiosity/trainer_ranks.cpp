@@ -2,6 +2,7 @@
 // its config and its networks' state, so that every rank steps the same parameters whatever its device or its
 // view of the file system — a config chosen for rank 0's device (batch, width) holds for all.
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "radiosity/trainer.hpp"
 
 namespace clr::radiosity {
@@ -30,7 +31,7 @@ void Trainer::share_rank0_state() {
   std::string text = writes_run_dir() ? nlohmann::json(config_).dump() : std::string();
   ranks.broadcast(text);
   if (!writes_run_dir()) {
-    config_ = parse_train_config(nlohmann::json::parse(text));
+    config_ = parse_train_config(parse_json(text, "rank 0's config"));
     network_ = std::make_unique<nn::Network>(*ctx_, nn::network_config_from_json(config_.network));
     if (config_.guided()) guide_ = std::make_unique<nn::Network>(*ctx_, nn::network_config_from_json(config_.guide));
   }

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 
 namespace clr::scene::xml {
 
@@ -26,13 +27,7 @@ int Source::line_of(std::ptrdiff_t offset) const {
 }
 
 std::unique_ptr<Source> parse_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in || std::filesystem::is_directory(path)) throw InputError(path.string() + ": scene file not found");
-  // A device (/dev/zero) or FIFO would be read until memory runs out.
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path.string() + ": scene file is not a regular file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  const std::string text = read_input_text(path, "scene file");
   auto src = std::make_unique<Source>();
   src->path = path;
   src->line_starts.push_back(0);

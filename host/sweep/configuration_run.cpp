@@ -8,6 +8,8 @@
 #include <optional>
 
 #include "common/atomic_file.hpp"
+#include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "common/stop_signal.hpp"
 #include "radiosity/residual.hpp"
 #include "radiosity/run_directory.hpp"
@@ -51,12 +53,23 @@ bool has_row(const std::vector<Row>& rows, const Row& row) {
   return std::any_of(rows.begin(), rows.end(), [&](const Row& r) { return r.key() == key; });
 }
 
+// A field of a snapshot record; InputError naming the file when it is missing or of another type (run files are
+// input like any other).
+template <typename T>
+T record_field(const nlohmann::json& record, const char* key, const fs::path& file) {
+  try {
+    return record.at(key).get<T>();
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(file.string() + ": '" + key + "' is missing or not a number");
+  }
+}
+
 // The steps of the run's snapshot at its largest budget, once it has one: the run is finished, and an equal-steps
 // point beyond them is out of its reach (it trains no further for one).
 std::optional<std::uint64_t> finished_steps(const fs::path& root, double max_minutes) {
-  std::ifstream in(root / budget_label(max_minutes) / "snapshot.json");
-  if (!in) return std::nullopt;
-  return nlohmann::json::parse(in).at("steps").get<std::uint64_t>();
+  const fs::path file = root / budget_label(max_minutes) / "snapshot.json";
+  if (!fs::exists(file)) return std::nullopt;
+  return record_field<std::uint64_t>(read_json_file(file, "snapshot record"), "steps", file);
 }
 
 // The points of `config` without a row yet that its run can give.
@@ -89,8 +102,8 @@ void take_snapshot(const radiosity::Trainer& trainer, const cl::Context& ctx, co
 }
 
 void evaluate(const SweepContext& sweep, const Configuration& config, const Target& t) {
-  std::ifstream in(t.dir / "snapshot.json");
-  const auto info = nlohmann::json::parse(in);
+  const fs::path record = t.dir / "snapshot.json";
+  const auto info = read_json_file(record, "snapshot record");
   auto network = radiosity::RunDirectory::load_radiance(sweep.ctx, t.dir);
   const auto field = radiosity::radiance_query(sweep.ctx, *network);
   // A few pixels first, so that the timed render does not include building the device's programs (a resumed
@@ -102,9 +115,9 @@ void evaluate(const SweepContext& sweep, const Configuration& config, const Targ
   const auto img = radiosity::render(sweep.geometry, field, settings);
   Row r = base_row(config, t);
   r.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  r.steps = info.at("steps").get<std::uint64_t>();  // a steps point's own count: the hook saw every step
-  r.seconds = info.at("seconds").get<double>();
-  r.peak_device_mib = double(info.at("peak_device_bytes").get<std::uint64_t>()) / double(1 << 20);
+  r.steps = record_field<std::uint64_t>(info, "steps", record);  // a steps point's own count: the hook saw every step
+  r.seconds = record_field<double>(info, "seconds", record);
+  r.peak_device_mib = double(record_field<std::uint64_t>(info, "peak_device_bytes", record)) / double(1 << 20);
   r.spp = settings.spp;
   const auto m = image::compare(img, sweep.reference);
   r.mape = m.mape;

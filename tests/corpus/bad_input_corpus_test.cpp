@@ -5,6 +5,7 @@
 // address space, so a hang or an unbounded allocation fails its row instead of the machine.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <zlib.h>
@@ -200,7 +201,7 @@ const std::vector<Case>& cases() {
       scene_case("missing_mesh.xml", "not found"),
       generated_case("device_mesh.xml", "'/dev/zero' is not a regular file"),
       generated_case("device_include.xml", "'/dev/zero' is not a regular file"),
-      {"device_scene", reference("/dev/zero"), 2, "scene file is not a regular file"},
+      {"device_scene", reference("/dev/zero"), 2, "scene file /dev/zero is not a regular file"},
       // OBJ
       generated_case("index_out_of_range.obj.xml", "vertex index is out of range"),
       generated_case("negative_index.obj.xml", "vertex index is out of range"),
@@ -271,6 +272,24 @@ const std::vector<Case>& cases() {
       train_case("config_wrong_type", "--steps 1 --config '{c}/config_wrong_type.json'", "'samples'"),
       train_case("config_learning_rate", "--steps 1 --config '{c}/config_learning_rate.json'", "'adam.learning_rate'"),
       train_case("config_incident_samples", "--steps 1 --config '{c}/config_incident_samples.json'", "batch × samples"),
+      // JSON inputs: one nesting limit for all, every key known at every depth, integers never narrowed, a value
+      // echoed clipped, and no read that blocks (a FIFO).
+      train_case("config_deep", "--steps 1 --config '{t}/deep.json'", "nested deeper than 64"),
+      train_case("config_huge_value", "--steps 1 --config '{t}/huge_value.json'", "method must be isnr or nr"),
+      train_case("config_fifo", "--steps 1 --config '{t}/fifo'", "is not a regular file"),
+      train_case("config_nested_unknown", "--steps 1 --config '{t}/nested_unknown.json'", "unknown key 'widht'"),
+      train_case("config_guide_unknown", "--steps 1 --config '{t}/guide_unknown.json'",
+                 "unknown key 'encoder.grid.levles'"),
+      train_case("config_batch_wraps", "--steps 1 --config '{t}/batch_wraps.json'",
+                 "'batch' 4294967808 is out of range"),
+      train_case("config_seed_negative", "--steps 1 --config '{t}/seed_negative.json'", "'seed' -1 is out of range"),
+      {"scene_fifo", "reference '{t}/fifo' --spp 1 -o '{t}/out.exr'", 2, "not a regular file"},
+      {"compare_fifo", "compare '{t}/fifo' '{t}/fifo'", 2, "not a regular file"},
+      {"checkpoint_fifo", "render '{box}' --model '{t}/fifo_run' -o '{t}/out.exr'", 2, "not a regular file"},
+      {"run_config_fifo", "train '{box}' --resume --steps 1 -o '{t}/fifo_config_run'", 2, "not a regular file"},
+      {"run_config_malformed", "train '{box}' --resume --steps 1 -o '{t}/malformed_config_run'", 2,
+       "malformed JSON in run config"},
+      {"run_log_nan", "train '{box}' --resume --steps 1 -o '{t}/nan_log_run'", 2, "log.csv:2: the seconds column"},
       // checkpoints
       {"checkpoint_device", "render '{box}' --model /dev/zero -o '{t}/out.exr'", 2, "not a regular file"},
       {"checkpoint_garbage", "render '{box}' --model '{t}/garbage_run' -o '{t}/out.exr'", 2, "bad magic"},
@@ -278,7 +297,7 @@ const std::vector<Case>& cases() {
       {"checkpoint_hostile_config", "render '{box}' --model '{t}/hostile_run' -o '{t}/out.exr'", 2,
        "tensor 'mlp.params'"},
       {"checkpoint_config_not_json", "render '{box}' --model '{t}/not_json_run' -o '{t}/out.exr'", 2,
-       "malformed network config"},
+       "malformed JSON in the network config of checkpoint"},
       // images compared
       {"compare_garbage", "compare '{t}/garbage.exr' '{t}/garbage.exr'", 2, "cannot read EXR"},
       {"compare_huge_window", "compare '{t}/huge_window.exr' '{t}/huge_window.exr'", 2, "EXR"},
@@ -410,6 +429,29 @@ void generate(const fs::path& t) {
   nn::write_checkpoint((t / "hostile_run" / "model.clr").string(), c);
   c.config_json = "{\"width\": ";
   nn::write_checkpoint((t / "not_json_run" / "model.clr").string(), c);
+
+  // JSON: deeply nested, a 10 MB value, unknown keys inside the modules' patches, integers that would wrap.
+  write(t / "deep.json", "{\"network\": " + std::string(100000, '[') + std::string(100000, ']') + "}");
+  write(t / "huge_value.json", "{\"method\": \"" + std::string(10 << 20, 'x') + "\"}");
+  write(t / "nested_unknown.json", R"({"network": {"widht": 64}})");
+  write(t / "guide_unknown.json", R"({"guide": {"encoder": {"grid": {"levles": 4}}}})");
+  write(t / "batch_wraps.json", R"({"batch": 4294967808})");
+  write(t / "seed_negative.json", R"({"seed": -1})");
+  // FIFOs where a file is read: opening one for reading would block until a writer came.
+  ::mkfifo((t / "fifo").c_str(), 0600);
+  fs::create_directories(t / "fifo_run");
+  ::mkfifo((t / "fifo_run" / "model.clr").c_str(), 0600);
+  // Run directories to resume whose own files are bad (the checkpoint itself is never reached).
+  for (const char* run : {"fifo_config_run", "malformed_config_run", "nan_log_run"}) {
+    fs::create_directories(t / run);
+    write(t / run / "model.clr", "x");
+    write(t / run / "config.json", "{}");
+    write(t / run / "log.csv", "step,seconds\n");
+  }
+  fs::remove(t / "fifo_config_run" / "config.json");
+  ::mkfifo((t / "fifo_config_run" / "config.json").c_str(), 0600);
+  write(t / "malformed_config_run" / "config.json", "{\"method\": ");
+  write(t / "nan_log_run" / "log.csv", "step,seconds\n25,nan,0.1\n");
 }
 
 class BadInputCorpus : public ::testing::TestWithParam<Case> {
@@ -444,6 +486,7 @@ TEST_P(BadInputCorpus, ExitsWithOneClearLine) {
   EXPECT_EQ(r.exit_code, c.exit_code) << c.args << "\n" << r.err;
   if (c.exit_code == 0) return;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_LT(r.err.size(), 1024u) << "an error line echoed its input whole";
   EXPECT_THAT(r.err, HasSubstr(c.fragment));
   EXPECT_FALSE(fs::exists(dir_ / "out.exr")) << "a failed command left an output";
   EXPECT_FALSE(fs::exists(dir_ / "run" / "model.clr")) << "a refused training left a checkpoint";
