@@ -24,7 +24,7 @@ Command add_compare_command(CLI::App& app) {
   cmd->add_option("--error-map", opt->error_map, "Write a false-colour relative-error map (PNG; red = 100 %)");
 
   return {cmd, [opt]() {
-            if (!opt->error_map.empty()) require_output_path(opt->error_map, "--error-map");
+            require_outputs({{opt->error_map, "--error-map"}}, {opt->image, opt->reference});
             const auto img = image::read_exr(opt->image);
             const auto ref = image::match_size(image::read_exr(opt->reference), img);
             const auto m = image::compare(img, ref);

@@ -71,8 +71,9 @@ Command add_guide_command(CLI::App& app) {
             if (!(px >= 0 && px < float(width) && py >= 0 && py < float(height)))
               throw InputError("--pixel " + nlohmann::json(px).dump() + "," + nlohmann::json(py).dump() +
                                " is outside the " + std::to_string(width) + "×" + std::to_string(height) + " image");
-            require_output_path(opt->output, "-o");
-            if (!opt->exr.empty()) require_output_path(opt->exr, "--exr");
+            auto inputs = radiosity::RunDirectory::input_files(opt->model);
+            inputs.push_back(opt->scene);
+            require_outputs({{opt->output, "-o"}, {opt->exr, "--exr"}}, inputs);
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
             const std::filesystem::path run = opt->model;

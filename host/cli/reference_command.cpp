@@ -36,7 +36,7 @@ Command add_reference_command(CLI::App& app) {
       cmd, [opt]() {
         // Under mpirun the ranks share the rows and rank 0 alone writes the image.
         const auto& ranks = distributed::Communicator::world();
-        if (ranks.rank() == 0) require_output_path(opt->output, "-o");
+        if (ranks.rank() == 0) require_outputs({{opt->output, "-o"}}, {opt->scene});
         const scene::Scene scene = scene::load_scene(opt->scene);
         scene::require_sensor(scene, opt->scene);
         scene::require_emitter(scene, opt->scene);

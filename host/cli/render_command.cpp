@@ -46,9 +46,11 @@ Command add_render_command(CLI::App& app) {
   add_device_option(*cmd, opt->device);
 
   return {cmd, [opt]() {
-            require_output_path(opt->output, "-o");
-            if (!opt->png.empty()) require_output_path(opt->png, "--png");
-            if (!opt->error_map.empty()) require_output_path(opt->error_map, "--error-map");
+            if (!opt->reference.empty() && opt->error_map.empty())
+              opt->error_map = std::filesystem::path(opt->output).replace_extension().string() + "_error.png";
+            auto inputs = radiosity::RunDirectory::input_files(opt->model);
+            inputs.insert(inputs.end(), {opt->scene, opt->reference});
+            require_outputs({{opt->output, "-o"}, {opt->png, "--png"}, {opt->error_map, "--error-map"}}, inputs);
             auto scene = scene::load_scene(opt->scene);
             if (opt->camera.empty()) scene::require_sensor(scene, opt->scene);
             if (!opt->camera.empty()) {
@@ -79,12 +81,8 @@ Command add_render_command(CLI::App& app) {
             if (reference) {
               const auto ref = image::match_size(*reference, img);
               const auto m = image::compare(img, ref);
-              const std::string map =
-                  !opt->error_map.empty()
-                      ? opt->error_map
-                      : std::filesystem::path(opt->output).replace_extension().string() + "_error.png";
-              image::write_png(map, image::error_map(img, ref));
-              std::printf("%s  (error map: %s)\n", image::describe(m).c_str(), map.c_str());
+              image::write_png(opt->error_map, image::error_map(img, ref));
+              std::printf("%s  (error map: %s)\n", image::describe(m).c_str(), opt->error_map.c_str());
             }
             return 0;
           }};

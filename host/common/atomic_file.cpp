@@ -1,6 +1,7 @@
 #include "common/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -101,6 +102,54 @@ void require_output_path(const fs::path& path, const std::string& option) {
   if (!fs::is_directory(dir, ec))
     throw InputError(option + ": cannot write " + path.string() + ": " + dir.string() + " is not a directory");
   require_writable_directory(dir, option + ": cannot write " + path.string() + " in");
+}
+
+namespace {
+
+struct Identity {
+  bool exists = false;
+  bool regular = false;
+  dev_t device = 0;
+  ino_t inode = 0;
+  fs::path path;  // where it does not exist
+  bool operator==(const Identity& o) const {
+    return exists == o.exists && (exists ? device == o.device && inode == o.inode : path == o.path);
+  }
+};
+
+Identity identity_of(const fs::path& p) {
+  Identity id;
+  struct stat st {};
+  if (::stat(p.c_str(), &st) == 0) {
+    id.exists = true;
+    id.regular = S_ISREG(st.st_mode);
+    id.device = st.st_dev;
+    id.inode = st.st_ino;
+  } else {
+    std::error_code ec;
+    id.path = fs::weakly_canonical(fs::absolute(p, ec), ec);
+  }
+  return id;
+}
+
+}  // namespace
+
+void require_outputs(const std::vector<Output>& outputs, const std::vector<fs::path>& inputs) {
+  std::vector<std::pair<Identity, const Output*>> seen;
+  for (const auto& out : outputs) {
+    if (out.path.empty()) continue;
+    require_output_path(out.path, out.option);
+    const Identity id = identity_of(out.path);
+    if (id.exists && !id.regular) continue;  // a device or FIFO: written through, replaces nothing
+    for (const auto& in : inputs)
+      if (!in.empty() && identity_of(in) == id)
+        throw InputError(out.option + ": output " + out.path.string() + " is the input " + in.string() +
+                         "; it would be overwritten");
+    for (const auto& [other_id, other] : seen)
+      if (other_id == id)
+        throw InputError(out.option + ": output " + out.path.string() + " is also the output of " + other->option);
+    seen.emplace_back(id, &out);
+  }
 }
 
 void write_text_atomically(const fs::path& path, std::string_view text) {

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <functional>
 #include <string_view>
+#include <vector>
 
 namespace clr {
 
@@ -22,6 +23,16 @@ void write_text_atomically(const std::filesystem::path& path, std::string_view t
 // file (/etc/hostname/x), a folder that refuses new files (read-only, /proc). Commands check their outputs before
 // the work that produces them, so a typo does not cost a whole render.
 void require_output_path(const std::filesystem::path& path, const std::string& option);
+
+// A command's outputs, checked together before its work: each as require_output_path does, and none the same file
+// as another of them or as one of the command's `inputs` — writing it would silently replace that file. Identity
+// is the device and inode after links are followed (a symlink to the scene is the scene), or the absolute path of
+// an output that does not exist yet. Outputs that are devices or FIFOs are written through and may repeat.
+struct Output {
+  std::filesystem::path path;  // empty: the option was not given
+  std::string option;          // "-o", "--png", …
+};
+void require_outputs(const std::vector<Output>& outputs, const std::vector<std::filesystem::path>& inputs);
 
 // Creates and removes a probe file in `dir`, the way write_atomically will create its temporary there: InputError
 // "<what> <dir>: <reason>" when that fails for a reason of the path (permissions, read-only, not a directory), a

@@ -128,6 +128,11 @@ void RunDirectory::write_snapshot(const fs::path& dir, const TrainConfig& config
   write_model(dir, config, network, guide);
 }
 
+std::vector<fs::path> RunDirectory::input_files(const fs::path& run) {
+  const fs::path dir = fs::is_directory(run) ? run : run.parent_path();
+  return {fs::is_directory(run) ? model_path(run) : run, config_path(dir), log_path(dir)};
+}
+
 std::unique_ptr<nn::Network> RunDirectory::load_radiance(cl::Context& ctx, const fs::path& run) {
   return load_network(ctx, fs::is_directory(run) ? model_path(run) : run);
 }

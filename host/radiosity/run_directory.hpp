@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cl/context.hpp"
 #include "common/run_lock.hpp"
@@ -55,6 +56,8 @@ class RunDirectory {
   static void write_snapshot(const std::filesystem::path& dir, const TrainConfig& config, const nn::Network& network,
                              const nn::Network* guide);
 
+  // The files a reader of `run` (a run directory or its model.clr) reads: inputs no output may replace.
+  static std::vector<std::filesystem::path> input_files(const std::filesystem::path& run);
   // The N-Module of a run (`run` a run directory or its model.clr).
   static std::unique_ptr<nn::Network> load_radiance(cl::Context& ctx, const std::filesystem::path& run);
   // The I-Module of an ISNR run: its config from config.json, its tensors from model.clr. InputError when the run

@@ -22,6 +22,8 @@ void Mesh::flip() {
 void Mesh::compute_vertex_normals() {
   normals.assign(positions.size(), Vec3(0.0f));
   for (const auto& t : triangles) {
+    // validate() names an index out of range once the loader has the mesh whole; until then it must not be used.
+    if (std::size_t(std::max({t.x, t.y, t.z})) >= positions.size()) continue;
     const Vec3 p[3] = {positions[t.x], positions[t.y], positions[t.z]};
     const Vec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
     const float len = glm::length(n);

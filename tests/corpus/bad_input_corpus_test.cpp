@@ -290,6 +290,14 @@ const std::vector<Case>& cases() {
       {"run_config_malformed", "train '{box}' --resume --steps 1 -o '{t}/malformed_config_run'", 2,
        "malformed JSON in run config"},
       {"run_log_nan", "train '{box}' --resume --steps 1 -o '{t}/nan_log_run'", 2, "log.csv:2: the seconds column"},
+      // An output is never one of the command's inputs, nor another output: by identity, links followed.
+      {"output_is_scene", "reference '{t}/box_copy.xml' --spp 1 -o '{t}/box_copy.xml'", 2, "is the input"},
+      {"output_links_to_scene", "reference '{t}/box_copy.xml' --spp 1 -o '{t}/box_link.exr'", 2, "is the input"},
+      {"output_is_checkpoint", "render '{box}' --model '{t}/hostile_run' -o '{t}/hostile_run/model.clr'", 2,
+       "is the input"},
+      {"png_is_output", "render '{box}' --model '{t}/hostile_run' -o '{t}/out.exr' --png '{t}/out.exr'", 2,
+       "is also the output of -o"},
+      {"error_map_is_reference", "compare '{t}/nan.exr' '{t}/nan.exr' --error-map '{t}/nan.exr'", 2, "is the input"},
       // checkpoints
       {"checkpoint_device", "render '{box}' --model /dev/zero -o '{t}/out.exr'", 2, "not a regular file"},
       {"checkpoint_garbage", "render '{box}' --model '{t}/garbage_run' -o '{t}/out.exr'", 2, "bad magic"},
@@ -430,6 +438,8 @@ void generate(const fs::path& t) {
   c.config_json = "{\"width\": ";
   nn::write_checkpoint((t / "not_json_run" / "model.clr").string(), c);
 
+  fs::copy_file(kBox, t / "box_copy.xml");
+  fs::create_symlink(t / "box_copy.xml", t / "box_link.exr");
   // JSON: deeply nested, a 10 MB value, unknown keys inside the modules' patches, integers that would wrap.
   write(t / "deep.json", "{\"network\": " + std::string(100000, '[') + std::string(100000, ']') + "}");
   write(t / "huge_value.json", "{\"method\": \"" + std::string(10 << 20, 'x') + "\"}");
