@@ -1,7 +1,10 @@
 // clradiosity train SCENE.xml [--method isnr|nr] [--is-loss ikl|kl] [--bsdf-fraction C] [--samples N] [--batch M]
 //                  [--steps S | --minutes T] [--preset preview|balanced|quality] [--seed K] [--config FILE.json]
 //                  [--resume] -o RUN_DIR
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <functional>
 #include <iostream>
 #include <optional>
 
@@ -9,9 +12,11 @@
 #include "cli/command.hpp"
 #include "cli/number_checks.hpp"
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "distributed/communicator.hpp"
 #include "geometry/geometry.hpp"
 #include "radiosity/preset.hpp"
+#include "radiosity/run_directory.hpp"
 #include "radiosity/trainer.hpp"
 #include "scene/scene.hpp"
 
@@ -28,6 +33,34 @@ void print_exchange(const distributed::ExchangeStats& s, std::uint64_t steps) {
       "all, %.2f ms/step waiting for the slowest rank\n",
       double(s.bytes) / n / 1024.0, double(s.dense_bytes) / n / 1024.0, s.allreduce_seconds / n * 1e3,
       s.total_seconds / n * 1e3, s.wait_seconds / n * 1e3);
+}
+
+// A resumed run keeps its settings: a flag that asks for another value than the run has is refused, naming both,
+// rather than silently dropped. `given` holds the flags' values (over defaults), `saved` the run's config.
+void require_same_settings(const radiosity::TrainConfig& given, const radiosity::TrainConfig& saved,
+                           const std::function<bool(const char*)>& flag_given) {
+  const nlohmann::json g = given, s = saved;
+  for (const auto& [flag, pointer] : {std::pair{"--method", "/method"},
+                                      {"--is-loss", "/is_loss"},
+                                      {"--bsdf-fraction", "/bsdf_fraction"},
+                                      {"--samples", "/samples"},
+                                      {"--batch", "/batch"},
+                                      {"--seed", "/seed"},
+                                      {"--residual", "/residual"},
+                                      {"--learning-rate", "/network/adam/learning_rate"},
+                                      {"--guide-learning-rate", "/guide/adam/learning_rate"},
+                                      {"--gemm", "/network/gemm"}}) {
+    if (!flag_given(flag)) continue;
+    const nlohmann::json::json_pointer at(pointer);
+    const nlohmann::json want = g.value(at, nlohmann::json()), have = s.value(at, nlohmann::json());
+    // Learning rates are stored as float: equal to a double up to its precision.
+    const bool same = want.is_number() && have.is_number()
+                          ? std::abs(want.get<double>() - have.get<double>()) <= 1e-6 * std::abs(have.get<double>())
+                          : want == have;
+    if (!same)
+      throw InputError("--resume: " + std::string(flag) + " " + clip(want.dump()) + " contradicts the run's " +
+                       clip(have.dump()) + " (a resumed run keeps its settings; start a new run to change them)");
+  }
 }
 
 }  // namespace
@@ -104,6 +137,12 @@ Command add_train_command(CLI::App& app) {
               config.validate();
             };
             apply_flags();
+            if (opt->resume) {
+              if (!opt->config_file.empty())
+                throw InputError("--config with --resume: a resumed run's settings are its own config.json");
+              if (std::filesystem::exists(radiosity::RunDirectory::config_path(opt->run_dir)))
+                require_same_settings(config, radiosity::RunDirectory::load_config(opt->run_dir), given);
+            }
             if (config.steps == 0 && config.minutes == 0 && opt->preset.empty())
               throw InputError("give a budget: --steps S or --minutes T (or a --preset)");
 

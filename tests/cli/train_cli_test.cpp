@@ -68,6 +68,20 @@ TEST_F(TrainCli, InterruptWritesACheckpointAndExitsCleanly) {
   EXPECT_TRUE(fs::exists(dir / "out.exr"));
   r = run_cli("train " + kBox + " --resume --steps 1 -o " + run.string());
   EXPECT_EQ(r.exit_code, 0) << r.err;  // already past 1 step: resumes, writes the checkpoint, stops
+
+  // A resumed run keeps its settings: a flag asking for others is refused naming both; the same value is fine.
+  const auto saved = nlohmann::json::parse(std::ifstream(run / "config.json"));
+  for (const auto& [flags, fragment] : std::vector<std::pair<std::string, std::string>>{
+           {"--method nr", "--method \"nr\" contradicts the run's \"isnr\""},
+           {"--batch 999", "--batch 999 contradicts"},
+           {"--learning-rate 0.01", "--learning-rate 0.01 contradicts"},
+           {"--seed 7", "--seed 7 contradicts"}}) {
+    r = run_cli("train " + kBox + " --resume --steps 1 " + flags + " -o " + run.string());
+    EXPECT_EQ(r.exit_code, 2) << flags << ": " << r.err;
+    EXPECT_THAT(r.err, HasSubstr(fragment)) << flags;
+  }
+  r = run_cli("train " + kBox + " --resume --steps 1 --batch " + saved["batch"].dump() + " -o " + run.string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
 TEST_F(TrainCli, EachPresetRunsAndRecordsItsChoice) {
