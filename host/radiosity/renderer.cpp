@@ -7,9 +7,8 @@
 namespace clr::radiosity {
 
 image::Image render(const geometry::Geometry& geometry, const RadianceQuery& field, const RenderSettings& settings) {
-  const scene::Camera& camera = geometry.scene().camera;
-  const int width = settings.width > 0 ? settings.width : camera.width;
-  const int height = settings.height > 0 ? settings.height : camera.height;
+  const scene::Camera camera = geometry.scene().camera.resized(settings.width, settings.height);
+  const int width = camera.width, height = camera.height;
   image::check_image_size(width, height, "--width × --height");
   const std::size_t spp = std::size_t(std::max(1, settings.spp)), R = nn::kRawInputs;
   image::Image img(width, height);
@@ -33,8 +32,7 @@ image::Image render(const geometry::Geometry& geometry, const RadianceQuery& fie
         Pcg32 rng(sample, settings.seed);
         const float px = float(pixel % std::size_t(width)) + rng.next_float();
         const float py = float(pixel / std::size_t(width)) + rng.next_float();
-        // The camera's film may differ from the requested size: scale pixel coordinates to its raster.
-        const auto ray = camera.ray(px * float(camera.width) / float(width), py * float(camera.height) / float(height));
+        const auto ray = camera.ray(px, py);
         const PathEnd path =
             trace_to_surface(geometry, {ray.origin, ray.tnear, ray.direction}, rng, settings.max_delta_bounces);
         for (int c = 0; c < 3; ++c) {

@@ -103,9 +103,7 @@ class PathTracer {
 }  // namespace
 
 image::Image render(const geometry::Geometry& geometry, const RenderOptions& options, RenderStats* stats) {
-  scene::Camera camera = geometry.scene().camera;
-  if (options.width > 0) camera.width = options.width;
-  if (options.height > 0) camera.height = options.height;
+  const scene::Camera camera = geometry.scene().camera.resized(options.width, options.height);
   image::check_image_size(camera.width, camera.height, "--width × --height");
   const PathTracer tracer(geometry, options.max_depth.value_or(geometry.scene().max_depth));
   image::Image img(camera.width, camera.height);

@@ -22,6 +22,13 @@ Vec2 Camera::tan_half_fov() const {
   }
 }
 
+Camera Camera::resized(int new_width, int new_height) const {
+  Camera c = *this;
+  if (new_width > 0) c.width = new_width;
+  if (new_height > 0) c.height = new_height;
+  return c;
+}
+
 Camera::Ray Camera::ray(float px, float py) const {
   const Vec2 tan = tan_half_fov();
   const Vec3 local(tan.x * (1.0f - 2.0f * px / float(width)), tan.y * (1.0f - 2.0f * py / float(height)), 1.0f);

@@ -23,6 +23,10 @@ struct Camera {
   Ray ray(float px, float py) const;
   // Half-extents of the image plane at distance 1.
   Vec2 tan_half_fov() const;
+  // The same camera with a film of another size (0 keeps the scene's): as in Mitsuba and Tungsten, the film defines
+  // the aspect and the field of view holds along fov_axis, so the view widens or narrows; it is never squeezed.
+  // Every image of a scene (reference, render, the guide's pixel, the sweep) is taken with this one model.
+  Camera resized(int new_width, int new_height) const;
 };
 
 }  // namespace clr::scene

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <vector>
+
 #include "scene/scene.hpp"
 
 namespace clr::radiosity {
@@ -46,6 +49,43 @@ TEST(Renderer, FollowsDeltaChainsAndSeesTheEnvironment) {
   EXPECT_GT(sky, 100u);
   EXPECT_GT(mirror, 100u);
   EXPECT_EQ(queried, mirror);
+}
+
+// A film of one aspect rendered at another: the renderer must take the same view as the path tracer (the film's
+// width and height replaced, the field of view held along fov_axis), not squeeze the film's frame into the image.
+// The query returns the hit position, so the image is a map of where each pixel looks; it must match rays cast
+// through the pixel centres with the reference's camera model.
+TEST(Renderer, AnotherAspectTakesThePathTracersView) {
+  auto scene = scene::load_scene(kScenes / "cornell-box.xml", {{"res", "16"}});
+  scene.camera.width = 64;  // a 16:9 film …
+  scene.camera.height = 36;
+  const geometry::Geometry geometry(scene);
+  const RadianceQuery position = [](std::span<const float> rows, std::span<float> rgb) {
+    for (std::size_t r = 0; r < rows.size() / nn::kRawInputs; ++r)
+      for (int c = 0; c < 3; ++c) rgb[3 * r + c] = rows[r * nn::kRawInputs + nn::raw::kPosition + std::size_t(c)];
+  };
+  RenderSettings settings;  // … rendered square
+  settings.width = settings.height = 24;
+  settings.spp = 64;
+  const auto img = render(geometry, position, settings);
+  const scene::Camera camera = scene.camera.resized(24, 24);
+  std::vector<double> errors;
+  for (int y = 2; y < 22; y += 4)
+    for (int x = 2; x < 22; x += 4) {
+      const auto cr = camera.ray(float(x) + 0.5f, float(y) + 0.5f);
+      const auto hit = geometry.intersect({cr.origin, cr.tnear, cr.direction});
+      ASSERT_TRUE(hit.valid());
+      const Vec3 expected = geometry.surface(hit).position;
+      const float* p = img.pixel(x, y);
+      errors.push_back(glm::length(Vec3(p[0], p[1], p[2]) - expected));
+    }
+  std::sort(errors.begin(), errors.end());
+  Vec3 lo(1e30f), hi(-1e30f);
+  for (const auto& shape : scene.shapes)
+    for (const Vec3& v : shape.mesh.positions) lo = glm::min(lo, v), hi = glm::max(hi, v);
+  const double size = glm::length(hi - lo);
+  // Within a pixel's footprint (a pixel spans ~1/24 of the view); a squeezed film misses by a fifth of the box.
+  EXPECT_LT(errors[errors.size() / 2], 0.02 * size);
 }
 
 TEST(Renderer, OtherResolutionsCoverTheSameView) {

@@ -14,8 +14,7 @@ namespace clr::radiosity {
 GuideView view_guide(cl::Context& ctx, const geometry::Geometry& geometry, nn::Network& radiance, nn::Network& guide,
                      float px, float py, int width, int height, int res) {
   const scene::Scene& scene = geometry.scene();
-  const scene::Camera& camera = scene.camera;
-  const auto ray = camera.ray(px * float(camera.width) / float(width), py * float(camera.height) / float(height));
+  const auto ray = scene.camera.resized(width, height).ray(px, py);
   Pcg32 rng(0, 1);
   const PathEnd seen = trace_to_surface(geometry, {ray.origin, ray.tnear, ray.direction}, rng, 8);
   if (!seen.at_surface)
