@@ -79,26 +79,29 @@ __kernel void gemm_own(uint M, uint N, uint K, float alpha, __global const float
     }
 #pragma unroll
     for (uint i = 0; i < TM; ++i) {
-      if (i >= mm) break;
-      __global float* cp = Cs + (m0 + i) * ldc + n0;
-      if (nn == TN) {
+      // Rows past the matrix are skipped, not broken out of: a loop with a break cannot be fully unrolled, and acc
+      // must stay in registers (indexed only by unrolled constants).
+      if (i < mm) {
+        __global float* cp = Cs + (m0 + i) * ldc + n0;
+        if (nn == TN) {
 #pragma unroll
-        for (uint v = 0; v < NV; ++v) {
-          floatV r = alpha * acc[i][v];
-          // beta == 0 must not read C: it may hold garbage (or NaN) that 0·C would propagate.
-          if (beta != 0.0f) r += beta * vloadV(v, cp);
-          if (use_bias) r += vloadV(v, bias + bias_off + n0);
-          vstoreV(apply_act_v(r, act), v, cp);
-        }
-      } else {
-        float t[TN];
+          for (uint v = 0; v < NV; ++v) {
+            floatV r = alpha * acc[i][v];
+            // beta == 0 must not read C: it may hold garbage (or NaN) that 0·C would propagate.
+            if (beta != 0.0f) r += beta * vloadV(v, cp);
+            if (use_bias) r += vloadV(v, bias + bias_off + n0);
+            vstoreV(apply_act_v(r, act), v, cp);
+          }
+        } else {
+          float t[TN];
 #pragma unroll
-        for (uint v = 0; v < NV; ++v) vstoreV(acc[i][v], v, t);
-        for (uint j = 0; j < nn; ++j) {
-          float r = alpha * t[j];
-          if (beta != 0.0f) r += beta * cp[j];
-          if (use_bias) r += bias[bias_off + n0 + j];
-          cp[j] = apply_act(r, act);
+          for (uint v = 0; v < NV; ++v) vstoreV(acc[i][v], v, t);
+          for (uint j = 0; j < nn; ++j) {
+            float r = alpha * t[j];
+            if (beta != 0.0f) r += beta * cp[j];
+            if (use_bias) r += bias[bias_off + n0 + j];
+            cp[j] = apply_act(r, act);
+          }
         }
       }
     }

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -26,6 +27,15 @@ void write_then(const fs::path& tmp, const std::function<void(const fs::path&)>&
     fs::remove(tmp, ec);
     throw;
   }
+}
+
+// prefix + name + suffix, with `name` shortened where the whole would not fit a file name (NAME_MAX, 255 bytes on
+// Linux): an output with a valid 254-byte name must not fail for its temporary's sake. A shortened temporary keeps
+// its pid suffix, so it is still unique to this process.
+std::string temporary_name(const std::string& prefix, const std::string& name, const std::string& suffix) {
+  constexpr std::size_t kNameMax = 255;
+  const std::size_t room = kNameMax - std::min(kNameMax, prefix.size() + suffix.size());
+  return prefix + name.substr(0, room) + suffix;
 }
 
 // Copies a finished temporary into a target that must not be replaced (a device, FIFO, socket).
@@ -63,15 +73,16 @@ void write_atomically(const fs::path& requested, const std::function<void(const 
   if (fs::is_directory(status)) throw InputError("output " + requested.string() + " is a directory");
   if (fs::exists(status) && !fs::is_regular_file(status)) {
     // The target's folder may not take new files (/dev): the temporary goes to the system's temporary folder.
-    const fs::path tmp = fs::temp_directory_path() /
-                         ("clradiosity-" + std::to_string(::getpid()) + "-" + path.filename().string() + ".tmp");
+    const fs::path tmp = fs::temp_directory_path() / temporary_name("clradiosity-" + std::to_string(::getpid()) + "-",
+                                                                    path.filename().string(), ".tmp");
     write_then(tmp, write, [&] {
       copy_into(tmp, path);
       fs::remove(tmp);
     });
     return;
   }
-  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
+  const fs::path tmp =
+      path.parent_path() / temporary_name("", path.filename().string(), ".tmp" + std::to_string(::getpid()));
   if (path.has_parent_path()) fs::create_directories(path.parent_path());
   write_then(tmp, write, [&] { fs::rename(tmp, path); });
 }

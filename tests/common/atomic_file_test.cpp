@@ -52,6 +52,14 @@ TEST_F(AtomicFile, CreatesAndReplacesRegularFiles) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir / "sub"), fs::directory_iterator()), 1);
 }
 
+// A valid name one byte short of NAME_MAX: the temporary beside it must fit too.
+TEST_F(AtomicFile, ALongestNameStillWrites) {
+  const fs::path target = dir / std::string(254, 'n');
+  write_text_atomically(target, "long");
+  EXPECT_EQ(read(target), "long");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1) << "a temporary was left";
+}
+
 TEST_F(AtomicFile, FailedWriteLeavesTheOldFileAndNoTemporary) {
   const fs::path p = dir / "out.txt";
   write_text_atomically(p, "old");
