@@ -67,6 +67,7 @@ Command add_render_command(CLI::App& app) {
                   glm::mat4(glm::vec4(x, 0), glm::vec4(glm::cross(z, x), 0), glm::vec4(z, 0), glm::vec4(origin, 1));
               scene.camera.fov_degrees = c[9];
               scene.camera.fov_axis = scene::Camera::FovAxis::y;
+              scene.camera.validate("--camera");
             }
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));

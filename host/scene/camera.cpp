@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "common/error.hpp"
+
 namespace clr::scene {
 
 Vec2 Camera::tan_half_fov() const {
@@ -27,6 +29,21 @@ Camera Camera::resized(int new_width, int new_height) const {
   if (new_width > 0) c.width = new_width;
   if (new_height > 0) c.height = new_height;
   return c;
+}
+
+namespace {
+bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+}  // namespace
+
+void Camera::validate(const std::string& what) const {
+  const Vec3 origin(to_world * glm::vec4(0, 0, 0, 1)), view(to_world * glm::vec4(0, 0, 1, 0));
+  if (!finite(origin) || glm::any(glm::greaterThan(glm::abs(origin), Vec3(kMaxCoordinate))))
+    throw InputError(what +
+                     ": the camera's position lies beyond ±1e12 (or is not finite), farther than "
+                     "single-precision ray tracing can resolve");
+  if (!finite(view) || !(glm::length(view) > 0))
+    throw InputError(what + ": the camera's view direction is not finite or zero");
+  if (!(fov_degrees > 0 && fov_degrees < 180)) throw InputError(what + ": the field of view must be in (0, 180)");
 }
 
 Camera::Ray Camera::ray(float px, float py) const {

@@ -27,6 +27,9 @@ struct Camera {
   // the aspect and the field of view holds along fov_axis, so the view widens or narrows; it is never squeezed.
   // Every image of a scene (reference, render, the guide's pixel, the sweep) is taken with this one model.
   Camera resized(int new_width, int new_height) const;
+  // InputError "<what>: …" unless the camera can make rays: a finite origin within ±kMaxCoordinate, a finite,
+  // non-degenerate view direction and a field of view in (0, 180) degrees.
+  void validate(const std::string& what) const;
 };
 
 }  // namespace clr::scene

@@ -11,6 +11,10 @@ using Rgb = glm::vec3;  // linear RGB
 
 inline constexpr float kPi = 3.14159265358979323846f;
 inline constexpr float kInvPi = 1.0f / kPi;
+// The largest |coordinate| of a vertex or camera: single-precision ray tracing resolves nothing finer than ~1e5 out
+// there already, and Embree refuses rays whose origin lies beyond ~1.8e19 (an assertion, not an error), so
+// anything farther is refused when the scene is read, naming it.
+inline constexpr float kMaxCoordinate = 1e12f;
 
 inline float luminance(const Rgb& c) { return 0.212671f * c.x + 0.715160f * c.y + 0.072169f * c.z; }
 inline float max_component(const Rgb& c) { return std::fmax(c.x, std::fmax(c.y, c.z)); }

@@ -557,6 +557,7 @@ void require_emitter(const Scene& scene, const std::filesystem::path& path) {
 
 void require_sensor(const Scene& scene, const std::filesystem::path& path) {
   if (!scene.has_sensor) throw InputError(path.string() + ": the scene has no <sensor> to render from");
+  scene.camera.validate(path.string() + ": <sensor>");
 }
 
 }  // namespace clr::scene

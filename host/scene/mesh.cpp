@@ -45,6 +45,10 @@ void Mesh::validate(const std::string& what) const {
   for (std::size_t i = 0; i < positions.size(); ++i)
     if (!std::isfinite(positions[i].x) || !std::isfinite(positions[i].y) || !std::isfinite(positions[i].z))
       throw InputError(what + ": vertex " + std::to_string(i) + " is not finite (NaN geometry)");
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    if (glm::any(glm::greaterThan(glm::abs(positions[i]), Vec3(kMaxCoordinate))))
+      throw InputError(what + ": vertex " + std::to_string(i) +
+                       " lies beyond ±1e12, farther than single-precision ray tracing can resolve");
   for (const auto& n : normals)
     if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z))
       throw InputError(what + ": a vertex normal is not finite");

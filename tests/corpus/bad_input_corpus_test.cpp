@@ -298,6 +298,11 @@ const std::vector<Case>& cases() {
       {"png_is_output", "render '{box}' --model '{t}/hostile_run' -o '{t}/out.exr' --png '{t}/out.exr'", 2,
        "is also the output of -o"},
       {"error_map_is_reference", "compare '{t}/nan.exr' '{t}/nan.exr' --error-map '{t}/nan.exr'", 2, "is the input"},
+      // Coordinates a single-precision ray tracer cannot take are refused before Embree sees them.
+      {"camera_far", "render '{box}' --model '{t}/hostile_run' --camera 1e20,0,0,0,0,0,0,1,0,40 -o '{t}/out.exr'", 2,
+       "--camera: the camera's position lies beyond"},
+      {"sensor_far", "reference '{t}/far_sensor.xml' --spp 1 -o '{t}/out.exr'", 2, "the camera's position lies beyond"},
+      {"vertex_far", "reference '{t}/far_vertex.xml' --spp 1 -o '{t}/out.exr'", 2, "lies beyond ±1e12"},
       // checkpoints
       {"checkpoint_device", "render '{box}' --model /dev/zero -o '{t}/out.exr'", 2, "not a regular file"},
       {"checkpoint_garbage", "render '{box}' --model '{t}/garbage_run' -o '{t}/out.exr'", 2, "bad magic"},
@@ -438,6 +443,14 @@ void generate(const fs::path& t) {
   c.config_json = "{\"width\": ";
   nn::write_checkpoint((t / "not_json_run" / "model.clr").string(), c);
 
+  {  // the bundled box with its camera, then a shape, moved far beyond what float rays resolve
+    std::string box = read(kBox);
+    const std::string origin = "origin=\"0, 1, 6.8\"";
+    box.replace(box.find(origin), origin.size(), "origin=\"3e38, 1, 6.8\"");
+    write(t / "far_sensor.xml", box);
+    write(t / "far_vertex.xml", R"(<scene version="3.0.0"><shape type="rectangle"><transform name="to_world">)"
+                                R"(<translate x="1e30"/></transform></shape></scene>)");
+  }
   fs::copy_file(kBox, t / "box_copy.xml");
   fs::create_symlink(t / "box_copy.xml", t / "box_link.exr");
   // JSON: deeply nested, a 10 MB value, unknown keys inside the modules' patches, integers that would wrap.
