@@ -130,7 +130,7 @@ image::Image render(const geometry::Geometry& geometry, const RenderOptions& opt
         for (int s = 0; s < options.spp; ++s) {
           const float px = float(x) + rng.next_float(), py = float(y) + rng.next_float();
           const auto cr = camera.ray(px, py);
-          const Rgb L = tracer.radiance({cr.origin, cr.tnear, cr.direction}, rng, local_rays);
+          const Rgb L = tracer.radiance({cr.origin, cr.tnear, cr.direction, cr.tfar}, rng, local_rays);
           if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z))
             sum += glm::dvec3(L);
           else

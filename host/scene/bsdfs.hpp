@@ -67,6 +67,27 @@ class Plastic final : public Bsdf {
   float specular_weight_;                   // share of specular sampling when the Fresnel terms are equal
 };
 
+// Mitsuba's `pplastic` as its unpolarized (RGB) variants render it: a microfacet specular lobe with dielectric
+// Fresnel plus a Lambertian lobe attenuated by the Fresnel transmittance into and out of the surface, added
+// (not layered like `roughplastic`). Only the Stokes-vector bookkeeping of the polarized variants is left out.
+class PolarizedPlastic final : public Bsdf {
+ public:
+  PolarizedPlastic(float eta, Texture diffuse, std::optional<Texture> specular, Microfacet microfacet);
+  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const Vec2& uv) const override { return diffuse_.eval(uv); }
+  float roughness() const override { return mf_.alpha; }
+  bool has_non_delta() const override { return true; }
+
+ private:
+  float eta_;
+  Texture diffuse_;
+  std::optional<Texture> specular_;
+  Microfacet mf_;
+  float specular_probability_;
+};
+
 // `dielectric` (smooth), `roughdielectric` (microfacet) and `thindielectric` (a thin slab: transmission straight
 // through, reflection including the slab's internal bounces).
 class Dielectric final : public Bsdf {

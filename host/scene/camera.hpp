@@ -12,12 +12,12 @@ struct Camera {
   glm::mat4 to_world{1.0f};
   float fov_degrees = 45.0f;
   FovAxis fov_axis = FovAxis::x;
-  float near_clip = 1e-2f;
+  float near_clip = 1e-2f, far_clip = 1e4f;  // distances along the view axis (Mitsuba's defaults)
   int width = 768, height = 576;
 
   struct Ray {
     Vec3 origin, direction;  // direction is unit length
-    float tnear;             // the near clip plane, as a distance along the ray
+    float tnear, tfar;       // the near and far clip planes, as distances along the ray
   };
   // (px, py) in pixel units: (0, 0) the top-left corner of the image, (width, height) the bottom-right.
   Ray ray(float px, float py) const;

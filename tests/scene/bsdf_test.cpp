@@ -49,6 +49,9 @@ std::vector<Case> cases() {
       return std::make_shared<scene::Plastic>(1.5f, Rgb(0.6f, 0.3f, 0.2f), Rgb(1.0f), nonlinear, m);
     };
   };
+  auto pplastic = [](Microfacet m) {
+    return [m] { return std::make_shared<scene::PolarizedPlastic>(1.49f, Rgb(0.05f, 0.3f, 0.6f), std::nullopt, m); };
+  };
   auto rough_glass = [](Microfacet m) {
     return [m] {
       return std::make_shared<scene::Dielectric>(scene::Dielectric::Kind::rough, 1.5f, Rgb(1.0f), Rgb(1.0f), m);
@@ -65,6 +68,8 @@ std::vector<Case> cases() {
       {"plastic_nonlinear", plastic(std::nullopt, true), 70},
       {"roughplastic_ggx_0_3", plastic(mf(kGgx, 0.3f), false), 40},
       {"roughplastic_beckmann_0_2", plastic(mf(kBeckmann, 0.2f), true), 60},
+      {"pplastic_beckmann_0_1", pplastic(mf(kBeckmann, 0.1f)), 40},
+      {"pplastic_ggx_0_4_grazing", pplastic(mf(kGgx, 0.4f)), 75},
       {"roughdielectric_ggx_outside", rough_glass(mf(kGgx, 0.3f)), 35},
       {"roughdielectric_ggx_inside", rough_glass(mf(kGgx, 0.3f)), 160, 1.5f * 1.5f},
       {"roughdielectric_beckmann_outside", rough_glass(mf(kBeckmann, 0.4f)), 60},

@@ -9,6 +9,7 @@
 
 #include "common/error.hpp"
 #include "scene/mesh.hpp"
+#include "scene/shapes/file_mesh.hpp"
 
 namespace clr::scene {
 namespace {
@@ -198,3 +199,9 @@ Mesh load_ply(const std::filesystem::path& path) {
 }
 
 }  // namespace clr::scene
+
+namespace clr::scene::loader {
+ShapePlugin read_ply(Context& ctx, const Props& p) {
+  return file_mesh(p, load_ply(ctx.file(p, "filename", "mesh file")));
+}
+}  // namespace clr::scene::loader

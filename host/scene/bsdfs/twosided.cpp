@@ -1,4 +1,5 @@
 #include "scene/bsdfs.hpp"
+#include "scene/loader/plugin.hpp"
 
 namespace clr::scene {
 namespace {
@@ -21,3 +22,11 @@ std::optional<BsdfSample> TwoSided::sample(const Vec2& uv, const Vec3& wo, float
 }
 
 }  // namespace clr::scene
+
+namespace clr::scene::loader {
+std::shared_ptr<const Bsdf> read_twosided(Context& ctx, const Props& p) {
+  auto nested = ctx.nested_bsdfs(p);
+  if (nested.empty() || nested.size() > 2) p.node.fail("twosided expects one or two nested BSDFs");
+  return std::make_shared<TwoSided>(nested.front(), nested.back());
+}
+}  // namespace clr::scene::loader

@@ -43,9 +43,11 @@ struct Node {
   float number(const char* attribute) const;  // whole string must be a finite number
   float number_or(const char* attribute, float fallback) const;
   std::vector<float> numbers(const char* attribute) const;  // separated by commas and/or spaces
-  Rgb color() const;                                        // <rgb>, <srgb>, <spectrum> (a single value), <float>
-  Vec3 vector3() const;                                     // <point>/<vector>: x/y/z attributes or value="x, y, z"
-  glm::mat4 transform() const;                              // <transform>: its children applied in document order
+  // <rgb>/<srgb> (three values, one, or "#rrggbb"), <spectrum> (one value or wavelength:value pairs), <float>.
+  Rgb color() const;
+  Rgb spectrum() const;         // wavelength:value pairs → linear sRGB (scene/xml/spectrum.hpp)
+  Vec3 vector3() const;         // <point>/<vector>: x/y/z attributes or value="x, y, z"
+  glm::mat4 transform() const;  // <transform>: its children applied in document order
 };
 
 // Reads and parses a file (InputError "file: not found" / "file:line: malformed XML: ...").

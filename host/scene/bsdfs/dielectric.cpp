@@ -1,7 +1,9 @@
 #include <cmath>
 
 #include "scene/bsdfs.hpp"
+#include "scene/bsdfs/bsdf_props.hpp"
 #include "scene/fresnel.hpp"
+#include "scene/named_ior.hpp"
 
 namespace clr::scene {
 Dielectric::Dielectric(Kind kind, float eta, Texture specular_reflectance, Texture specular_transmittance,
@@ -85,3 +87,18 @@ std::optional<BsdfSample> Dielectric::sample(const Vec2& uv, const Vec3& wo, flo
 }
 
 }  // namespace clr::scene
+
+namespace clr::scene::loader {
+// `dielectric`, `thindielectric` and `roughdielectric`.
+std::shared_ptr<const Bsdf> read_dielectric(Context& ctx, const Props& p) {
+  const float eta = read_ior(p, "int_ior", 1.5046f) / read_ior(p, "ext_ior", 1.000277f);
+  const std::string type = p.type();
+  const auto kind = type == "dielectric"       ? Dielectric::Kind::smooth
+                    : type == "thindielectric" ? Dielectric::Kind::thin
+                                               : Dielectric::Kind::rough;
+  if (kind != Dielectric::Kind::rough) ignore_roughness(p);
+  return std::make_shared<Dielectric>(
+      kind, eta, ctx.texture(p, "specular_reflectance", Rgb(1.0f)), ctx.texture(p, "specular_transmittance", Rgb(1.0f)),
+      kind == Dielectric::Kind::rough ? std::optional(read_microfacet(p)) : std::nullopt);
+}
+}  // namespace clr::scene::loader

@@ -1,4 +1,5 @@
 #include "scene/bsdfs.hpp"
+#include "scene/loader/plugin.hpp"
 
 namespace clr::scene {
 
@@ -20,3 +21,9 @@ std::optional<BsdfSample> Diffuse::sample(const Vec2& uv, const Vec3& wo, float,
 }
 
 }  // namespace clr::scene
+
+namespace clr::scene::loader {
+std::shared_ptr<const Bsdf> read_diffuse(Context& ctx, const Props& p) {
+  return std::make_shared<Diffuse>(ctx.texture(p, "reflectance", Rgb(0.5f)));
+}
+}  // namespace clr::scene::loader

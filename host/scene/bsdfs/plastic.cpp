@@ -2,7 +2,9 @@
 #include <cmath>
 
 #include "scene/bsdfs.hpp"
+#include "scene/bsdfs/bsdf_props.hpp"
 #include "scene/fresnel.hpp"
+#include "scene/named_ior.hpp"
 
 namespace clr::scene {
 
@@ -121,3 +123,15 @@ std::optional<BsdfSample> Plastic::sample(const Vec2& uv, const Vec3& wo, float 
 }
 
 }  // namespace clr::scene
+
+namespace clr::scene::loader {
+// `plastic` and `roughplastic`.
+std::shared_ptr<const Bsdf> read_plastic(Context& ctx, const Props& p) {
+  const float eta = read_ior(p, "int_ior", 1.49f) / read_ior(p, "ext_ior", 1.000277f);
+  const bool rough = p.type() == "roughplastic";
+  if (!rough) ignore_roughness(p);
+  return std::make_shared<Plastic>(eta, ctx.texture(p, "diffuse_reflectance", Rgb(0.5f)),
+                                   ctx.texture(p, "specular_reflectance", Rgb(1.0f)), p.boolean("nonlinear", false),
+                                   rough ? std::optional(read_microfacet(p)) : std::nullopt);
+}
+}  // namespace clr::scene::loader

@@ -10,6 +10,7 @@
 
 #include "common/error.hpp"
 #include "scene/mesh.hpp"
+#include "scene/shapes/file_mesh.hpp"
 
 namespace clr::scene {
 namespace {
@@ -132,3 +133,10 @@ Mesh load_serialized(const std::filesystem::path& path, int shape_index) {
 }
 
 }  // namespace clr::scene
+
+namespace clr::scene::loader {
+ShapePlugin read_serialized(Context& ctx, const Props& p) {
+  const auto file = ctx.file(p, "filename", "mesh file");
+  return file_mesh(p, load_serialized(file, p.integer("shape_index", 0)));
+}
+}  // namespace clr::scene::loader

@@ -1,7 +1,9 @@
 #include <cmath>
 
 #include "scene/bsdfs.hpp"
+#include "scene/bsdfs/bsdf_props.hpp"
 #include "scene/fresnel.hpp"
+#include "scene/named_ior.hpp"
 
 namespace clr::scene {
 
@@ -33,3 +35,23 @@ std::optional<BsdfSample> Conductor::sample(const Vec2& uv, const Vec3& wo, floa
 Rgb Conductor::albedo(const Vec2& uv) const { return specular_.eval(uv) * fresnel_conductor(1.0f, eta_, k_); }
 
 }  // namespace clr::scene
+
+namespace clr::scene::loader {
+// `conductor` and `roughconductor`.
+std::shared_ptr<const Bsdf> read_conductor(Context& ctx, const Props& p) {
+  ComplexIor c{Rgb(0.0f), Rgb(1.0f)};
+  if (p.has("eta") || p.has("k")) {
+    c = {p.color("eta", Rgb(0.0f)), p.color("k", Rgb(1.0f))};
+  } else {
+    const std::string m = p.string("material", "none");
+    const auto named = conductor_ior(m);
+    if (!named) p.expect("material", {"string"}).fail("unknown conductor material '" + m + "'");
+    c = *named;
+  }
+  const float ext = read_ior(p, "ext_eta", 1.0f);
+  const bool rough = p.type() == "roughconductor";
+  if (!rough) ignore_roughness(p);
+  return std::make_shared<Conductor>(c.eta / ext, c.k / ext, ctx.texture(p, "specular_reflectance", Rgb(1.0f)),
+                                     rough ? std::optional(read_microfacet(p)) : std::nullopt);
+}
+}  // namespace clr::scene::loader

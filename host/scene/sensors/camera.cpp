@@ -28,7 +28,7 @@ Camera::Ray Camera::ray(float px, float py) const {
   const Vec3 dir_unnormalised = Vec3(to_world * glm::vec4(local, 0.0f));
   const float len = glm::length(dir_unnormalised);
   // The near plane is local z = near_clip, reached at local · near_clip, i.e. at distance near_clip · len.
-  return {Vec3(to_world * glm::vec4(0, 0, 0, 1)), dir_unnormalised / len, near_clip * len};
+  return {Vec3(to_world * glm::vec4(0, 0, 0, 1)), dir_unnormalised / len, near_clip * len, far_clip * len};
 }
 
 }  // namespace clr::scene

@@ -1,5 +1,6 @@
 #include <cmath>
 
+#include "scene/loader/plugin.hpp"
 #include "scene/mesh.hpp"
 
 namespace clr::scene {
@@ -85,3 +86,17 @@ Mesh make_sphere() {
 }
 
 }  // namespace clr::scene
+
+namespace clr::scene::loader {
+ShapePlugin read_rectangle(Context&, const Props&) { return {make_rectangle(), glm::mat4(1.0f)}; }
+ShapePlugin read_cube(Context&, const Props&) { return {make_cube(), glm::mat4(1.0f)}; }
+ShapePlugin read_disk(Context&, const Props&) { return {make_disk(), glm::mat4(1.0f)}; }
+
+ShapePlugin read_sphere(Context&, const Props& p) {
+  const float radius = p.number("radius", 1.0f);
+  if (!(radius > 0)) p.expect("radius", {"float"}).fail("radius must be positive");
+  const Vec3 center = p.vector3("center", Vec3(0.0f));
+  return {make_sphere(), glm::mat4(glm::vec4(radius, 0, 0, 0), glm::vec4(0, radius, 0, 0), glm::vec4(0, 0, radius, 0),
+                                   glm::vec4(center, 1))};
+}
+}  // namespace clr::scene::loader

@@ -1,13 +1,15 @@
-#include "scene/xml_source.hpp"
+#include "scene/xml/xml_source.hpp"
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <sstream>
 
 #include "common/error.hpp"
+#include "scene/xml/spectrum.hpp"
 
 namespace clr::scene::xml {
 
@@ -148,17 +150,57 @@ std::vector<float> Node::numbers(const char* attribute) const {
   return out;
 }
 
+namespace {
+float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+}  // namespace
+
 Rgb Node::color() const {
   const std::string t = tag();
-  if (t == "spectrum" && attr("value").find(':') != std::string::npos)
-    fail("wavelength-sampled spectra are not supported; give an RGB value");
   if (t != "rgb" && t != "srgb" && t != "spectrum" && t != "float") fail("expected a colour (rgb, spectrum or float)");
+  const std::string value = attr("value");
+  // "#rrggbb" (Mitsuba 0.x): an 8-bit sRGB colour.
+  if ((t == "rgb" || t == "srgb") && !value.empty() && value.front() == '#') {
+    Rgb c;
+    int consumed = 0;
+    unsigned r = 0, g = 0, b = 0;
+    if (value.size() != 7 || std::sscanf(value.c_str(), "#%2x%2x%2x%n", &r, &g, &b, &consumed) != 3 || consumed != 7)
+      fail("malformed colour '" + value + "' (expected #rrggbb)");
+    c = Rgb(float(r), float(g), float(b)) / 255.0f;
+    for (int i = 0; i < 3; ++i) c[i] = srgb_to_linear(c[i]);
+    return c;
+  }
+  if (t == "spectrum" && value.find(':') != std::string::npos) return spectrum();
   const auto v = numbers("value");
   if (v.size() != 1 && v.size() != 3) fail("a colour needs 1 or 3 values");
   Rgb c = v.size() == 1 ? Rgb(v[0]) : Rgb(v[0], v[1], v[2]);
   if (t == "srgb")
-    for (int i = 0; i < 3; ++i) c[i] = c[i] <= 0.04045f ? c[i] / 12.92f : std::pow((c[i] + 0.055f) / 1.055f, 2.4f);
+    for (int i = 0; i < 3; ++i) c[i] = srgb_to_linear(c[i]);
   return c;
+}
+
+Rgb Node::spectrum() const {
+  std::string v = attr("value");
+  std::replace(v.begin(), v.end(), ',', ' ');
+  std::istringstream words(v);
+  std::vector<float> wavelengths, values;
+  for (std::string w; words >> w;) {
+    const auto colon = w.find(':');
+    float l, x;
+    if (colon == std::string::npos || !parse_float(std::string_view(w).substr(0, colon), l) ||
+        !parse_float(std::string_view(w).substr(colon + 1), x))
+      fail("malformed wavelength:value pair '" + w + "'");
+    if (!wavelengths.empty() && !(l > wavelengths.back())) fail("wavelengths must increase");
+    wavelengths.push_back(l);
+    values.push_back(x);
+  }
+  if (wavelengths.size() < 2) fail("a spectrum needs at least two wavelength:value pairs");
+  // Emission and the unbounded optical constants may exceed 1; reflectances are clamped to [0, 1] (Mitsuba).
+  bool bounded = true;
+  for (pugi::xml_node p = xml.parent(); p; p = p.parent())
+    if (std::string(p.name()) == "emitter") bounded = false;
+  const std::string name = attr_or("name", "");
+  if (name == "eta" || name == "k" || name == "int_ior" || name == "ext_ior") bounded = false;
+  return spectrum_to_rgb(wavelengths, values, bounded);
 }
 
 Vec3 Node::vector3() const {
@@ -198,15 +240,24 @@ glm::mat4 Node::transform() const {
       const Vec3 axis = op.vector3();
       if (!(glm::length(axis) > 0)) op.fail("rotation axis is zero");
       step = glm::rotate(glm::mat4(1.0f), op.number("angle") * kPi / 180.0f, glm::normalize(axis));
-    } else if (t == "lookat" || t == "look_at") {
+    } else if (t == "lookat" || t == "look_at" || t == "lookAt") {
       auto point = [&](const char* a) {
         const auto v = op.numbers(a);
         if (v.size() != 3) op.fail(std::string(a) + " needs 3 values");
         return Vec3(v[0], v[1], v[2]);
       };
       const Vec3 origin = point("origin"), target = point("target");
-      const Vec3 up = op.has("up") ? point("up") : Vec3(0, 1, 0);
       const Vec3 dir = target - origin;
+      // Without `up`, Mitsuba takes the first tangent of its orthonormal basis around the view direction (Duff et
+      // al. 2017).
+      Vec3 up(0, 1, 0);
+      if (op.has("up")) {
+        up = point("up");
+      } else if (glm::length(dir) > 0) {
+        const Vec3 n = glm::normalize(dir);
+        const float sign = std::copysign(1.0f, n.z), a = -1.0f / (sign + n.z), b = n.x * n.y * a;
+        up = Vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
+      }
       const Vec3 left = glm::cross(up, dir);
       if (!(glm::length(dir) > 0) || !(glm::length(left) > 0)) op.fail("degenerate lookat (up parallel to view)");
       const Vec3 d = glm::normalize(dir), l = glm::normalize(left), u = glm::cross(d, l);

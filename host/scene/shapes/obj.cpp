@@ -8,6 +8,7 @@
 
 #include "common/error.hpp"
 #include "scene/mesh.hpp"
+#include "scene/shapes/file_mesh.hpp"
 
 namespace clr::scene {
 
@@ -112,3 +113,9 @@ Mesh load_obj(const std::filesystem::path& path) {
 }
 
 }  // namespace clr::scene
+
+namespace clr::scene::loader {
+ShapePlugin read_obj(Context& ctx, const Props& p) {
+  return file_mesh(p, load_obj(ctx.file(p, "filename", "mesh file")));
+}
+}  // namespace clr::scene::loader

@@ -1,0 +1,54 @@
+#include "scene/bsdfs/bsdf_props.hpp"
+
+#include <cstdio>
+
+#include "scene/named_ior.hpp"
+
+namespace clr::scene::loader {
+
+float read_ior(const Props& p, const std::string& name, float fallback) {
+  const Node* n = p.find(name);
+  if (!n) return fallback;
+  if (n->tag() == "string") {
+    const auto v = dielectric_ior(n->attr("value"));
+    if (!v) n->fail("unknown IOR name '" + n->attr("value") + "'");
+    return *v;
+  }
+  const float v = p.number(name, fallback);
+  if (!(v > 0)) n->fail("an IOR must be positive");
+  return v;
+}
+
+Microfacet read_microfacet(const Props& p) {
+  Microfacet mf;
+  const std::string d = p.string("distribution", "beckmann");
+  if (d == "beckmann")
+    mf.type = Microfacet::Type::beckmann;
+  else if (d == "ggx")
+    mf.type = Microfacet::Type::ggx;
+  else
+    p.expect("distribution", {"string"}).fail("unsupported distribution '" + d + "' (beckmann, ggx)");
+  for (const char* name : {"alpha", "alpha_u", "alpha_v"})
+    if (const Node* n = p.find(name); n && (n->tag() == "texture" || n->tag() == "ref"))
+      n->fail("textured roughness is not supported");
+  if (p.has("alpha_u") || p.has("alpha_v")) {
+    const float au = p.number("alpha_u", 0.1f), av = p.number("alpha_v", 0.1f);
+    if (au != av) p.node.fail("anisotropic roughness is not supported");
+    mf.alpha = au;
+  } else {
+    mf.alpha = p.number("alpha", 0.1f);
+  }
+  // Visible-normal sampling is a choice of sampling technique, not of appearance.
+  p.ignore({"sample_visible"});
+  // Below 1e-4 the lobe is numerically a delta; a mirror would be the better model.
+  if (!(mf.alpha >= 1e-4f)) p.node.fail("alpha must be at least 1e-4");
+  return mf;
+}
+
+void ignore_roughness(const Props& p) {
+  for (const char* name : {"alpha", "alpha_u", "alpha_v", "distribution"})
+    if (const Node* n = p.find(name))
+      std::fprintf(stderr, "%s: warning: a smooth %s BSDF ignores '%s'\n", n->where().c_str(), p.type().c_str(), name);
+}
+
+}  // namespace clr::scene::loader
