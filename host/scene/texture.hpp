@@ -46,6 +46,10 @@ class Texture {
   // Average over the texture (exact for constants and checkerboards, texel mean for bitmaps): used where a single
   // colour is needed, e.g. for lobe-selection weights.
   Rgb mean() const;
+  // Texels along u and v: a bitmap's size, (1, 1) for the others (Mitsuba's `resolution`).
+  glm::ivec2 resolution() const {
+    return kind_ == Kind::bitmap ? glm::ivec2(bitmap_->width, bitmap_->height) : glm::ivec2(1);
+  }
 
  private:
   Rgb eval_varying(const Vec2& uv) const;

@@ -346,6 +346,8 @@ class Loader final : public loader::Context {
     } else if (e.environment) {
       if (scene_.environment) n.fail("a scene has at most one environment emitter");
       scene_.environment = std::move(e.environment);
+    } else if (e.delta) {
+      scene_.delta_lights.push_back(std::move(*e.delta));
     }
   }
 
@@ -399,13 +401,20 @@ Scene load_scene(const std::filesystem::path& path, const std::map<std::string, 
 }
 
 void require_emitter(const Scene& scene, const std::filesystem::path& path) {
-  if (scene.environment) return;
+  if (scene.environment || !scene.delta_lights.empty()) return;
   // A shape whose triangles are all degenerate is a valid part of a scene (it is never hit), but no light.
   for (const auto& s : scene.shapes)
     if (s.is_emitter() && s.mesh.area() > 0) return;
   throw InputError(path.string() +
-                   ": the scene has no emitter (an area emitter on a shape of non-zero area, or an "
-                   "environment): every radiance would be zero");
+                   ": the scene has no emitter (an area emitter on a shape of non-zero area, an environment or "
+                   "a point, spot, directional or projector light): every radiance would be zero");
+}
+
+void require_trainable(const Scene& scene, const std::filesystem::path& path) {
+  if (!scene.delta_lights.empty())
+    throw InputError(path.string() +
+                     ": point, spot, directional and projector lights are not supported by training yet (they "
+                     "reach surfaces only through next-event estimation); the reference renders them");
 }
 
 void require_sensor(const Scene& scene, const std::filesystem::path& path) {

@@ -14,6 +14,7 @@
 
 #include "scene/bsdf.hpp"
 #include "scene/camera.hpp"
+#include "scene/delta_light.hpp"
 #include "scene/environment.hpp"
 #include "scene/mesh.hpp"
 #include "scene/texture.hpp"
@@ -56,6 +57,7 @@ class Props {
 struct EmitterPlugin {
   std::optional<Rgb> area;
   std::unique_ptr<Environment> environment;
+  std::optional<DeltaLight> delta;
 };
 
 // A shape plugin's mesh in its local frame; `to_world` may be amended (a sphere's radius and centre).
@@ -80,6 +82,10 @@ class Context {
 };
 
 std::shared_ptr<const Bsdf> single_nested_bsdf(Context& ctx, const Props& p);
+// What Mitsuba's projective cameras (and the projector, their reciprocal) read: `fov` and `fov_axis`, or a
+// `focal_length` (default 50 mm on 35 mm film, spanning its diagonal); near_clip, far_clip and focus_distance.
+void read_fov(const Props& p, Camera& c);
+void read_clip_planes(const Props& p, Camera& c);
 
 using BsdfReader = std::shared_ptr<const Bsdf> (*)(Context&, const Props&);
 using TextureReader = Texture (*)(Context&, const Props&);

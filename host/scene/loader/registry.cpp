@@ -33,10 +33,14 @@ namespace clr::scene::loader {
   X("disk", read_disk)             \
   X("sphere", read_sphere)
 
-#define CLR_EMITTER_PLUGINS(X) \
-  X("area", read_area)         \
-  X("constant", read_constant) \
-  X("envmap", read_envmap)
+#define CLR_EMITTER_PLUGINS(X)       \
+  X("area", read_area)               \
+  X("constant", read_constant)       \
+  X("envmap", read_envmap)           \
+  X("point", read_point)             \
+  X("spot", read_spot)               \
+  X("directional", read_directional) \
+  X("projector", read_projector)
 
 #define CLR_SENSOR_PLUGINS(X) X("perspective", read_perspective)
 

@@ -16,7 +16,7 @@ void read_clip_planes(const Props& p, Camera& c) {
   p.ignore({"focus_distance"});
 }
 
-void read_perspective(Context&, const Props& p, Camera& c) {
+void read_fov(const Props& p, Camera& c) {
   if (p.has("fov") && p.has("focal_length")) p.node.fail("give either 'fov' or 'focal_length', not both");
   if (p.has("fov")) {
     c.fov_degrees = p.number("fov", 45.0f);
@@ -47,6 +47,10 @@ void read_perspective(Context&, const Props& p, Camera& c) {
     c.fov_degrees = 2.0f * std::atan(std::sqrt(36.0f * 36.0f + 24.0f * 24.0f) / (2.0f * mm)) * 180.0f / kPi;
     c.fov_axis = Camera::FovAxis::diagonal;
   }
+}
+
+void read_perspective(Context&, const Props& p, Camera& c) {
+  read_fov(p, c);
   read_clip_planes(p, c);
   c.to_world = p.transform("to_world");
 }
