@@ -161,6 +161,8 @@ class Loader final : public loader::Context {
       texture(n);
     else if (t == "emitter")
       emitter(n);
+    else if (t == "shape")
+      shape(n);
   }
 
   void process(const Node& scene) {
@@ -256,6 +258,71 @@ class Loader final : public loader::Context {
 
   // ---- shapes ---------------------------------------------------------------------------------------------------
   void shape(const Node& n) {
+    const std::string type = n.attr_or("type", "");
+    if (type == "shapegroup") return shapegroup(n);
+    if (type == "instance") return instance(n);
+    scene_.shapes.push_back(build_shape(n));
+  }
+
+  // Mitsuba's `shapegroup`: shapes that are not rendered themselves, only through `instance`s of the group.
+  void shapegroup(const Node& n) {
+    register_id(n, "shapegroup");
+    if (!n.has("id")) n.fail("a shapegroup needs an id (instances refer to it)");
+    const Props p(n);
+    std::vector<Shape> group;
+    for (const Node& o : p.objects) {
+      if (o.tag() != "shape") o.fail("a shapegroup holds shapes only");
+      const std::string type = o.attr_or("type", "");
+      if (type == "shapegroup" || type == "instance") o.fail("shapegroups do not nest (as in Mitsuba)");
+      group.push_back(build_shape(o));
+      if (group.back().is_emitter()) o.fail("a shape in a shapegroup cannot emit (as in Mitsuba)");
+    }
+    p.check_all_used();
+    if (group.empty()) n.fail("the shapegroup holds no shape");
+    groups_[n.attr("id")] = std::move(group);
+  }
+
+  // Mitsuba's `instance`: a copy of a shapegroup's shapes under its own to_world.
+  void instance(const Node& n) {
+    register_id(n, "shape");
+    const Props p(n);
+    const Node* ref = nullptr;
+    for (const Node& o : p.objects) {
+      if (o.tag() != "ref" || ref) o.fail("an instance refers to one shapegroup");
+      ref = &o;
+    }
+    for (const auto& [name, o] : p.named)
+      if (o.tag() == "ref") {
+        if (ref) o.fail("an instance refers to one shapegroup");
+        ref = p.find(name);
+      }
+    if (!ref) n.fail("an instance needs a <ref> to a shapegroup");
+    build_declared(ref->attr("id"));
+    const auto group = groups_.find(ref->attr("id"));
+    if (group == groups_.end()) ref->fail("'" + ref->attr("id") + "' is no shapegroup");
+    const glm::mat4 to_world = p.transform("to_world");
+    check_to_world(n, to_world);
+    p.check_all_used();
+    const std::string id = n.attr_or("id", "instance " + std::to_string(scene_.shapes.size()));
+    for (const Shape& member : group->second) {
+      Shape s = member;
+      s.id = id + "/" + member.id;
+      s.mesh.transform(to_world);
+      s.mesh.validate(n.where());
+      scene_.shapes.push_back(std::move(s));
+    }
+  }
+
+  static void check_to_world(const Node& n, const glm::mat4& to_world) {
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!std::isfinite(to_world[c][r])) n.fail("the to_world transform is not finite (it overflows)");
+    // A singular to_world (a zero scale) flattens the mesh and leaves its normals undefined.
+    if (!(std::fabs(glm::determinant(glm::mat3(to_world))) > 0))
+      n.fail("the to_world transform is singular (a zero scale?)");
+  }
+
+  Shape build_shape(const Node& n) {
     register_id(n, "shape");
     const Props p(n);
     const std::string type = p.type();
@@ -274,12 +341,7 @@ class Loader final : public loader::Context {
     s.mesh = std::move(made.mesh);
     const glm::mat4 to_world = p.transform("to_world") * made.to_world;
     if (p.boolean("face_normals", false)) s.mesh.normals.clear();
-    for (int c = 0; c < 4; ++c)
-      for (int r = 0; r < 4; ++r)
-        if (!std::isfinite(to_world[c][r])) n.fail("the to_world transform is not finite (it overflows)");
-    // A singular to_world (a zero scale) flattens the mesh and leaves its normals undefined.
-    if (!(std::fabs(glm::determinant(glm::mat3(to_world))) > 0))
-      n.fail("the to_world transform is singular (a zero scale?)");
+    check_to_world(n, to_world);
     s.mesh.transform(to_world);
     if (p.boolean("flip_normals", false)) s.mesh.flip();
     s.mesh.validate(n.where());
@@ -320,7 +382,7 @@ class Loader final : public loader::Context {
       if (o.tag() == "ref") reference(*p.find(name));
     p.check_all_used();
     s.material = material_index(b ? b : default_bsdf());
-    scene_.shapes.push_back(std::move(s));
+    return s;
   }
 
   // ---- emitters -------------------------------------------------------------------------------------------------
@@ -387,6 +449,7 @@ class Loader final : public loader::Context {
   std::map<std::string, std::shared_ptr<const Bsdf>> bsdfs_;
   std::map<std::string, Texture> textures_;
   std::map<std::string, Rgb> area_emitters_;
+  std::map<std::string, std::vector<Shape>> groups_;  // shapegroups by id
   std::map<std::pair<std::string, bool>, std::shared_ptr<const Bitmap>> bitmaps_;
   std::map<const Bsdf*, int> material_ids_;
   std::shared_ptr<const Bsdf> default_bsdf_;

@@ -31,7 +31,8 @@ namespace clr::scene::loader {
   X("rectangle", read_rectangle)   \
   X("cube", read_cube)             \
   X("disk", read_disk)             \
-  X("sphere", read_sphere)
+  X("sphere", read_sphere)         \
+  X("cylinder", read_cylinder)
 
 #define CLR_EMITTER_PLUGINS(X)       \
   X("area", read_area)               \
