@@ -132,7 +132,10 @@ image::Image render(const geometry::Geometry& geometry, const RenderOptions& opt
         glm::dvec3 sum(0.0);
         for (int s = 0; s < options.spp; ++s) {
           const float px = float(x) + rng.next_float(), py = float(y) + rng.next_float();
-          const auto cr = camera.ray(px, py);
+          // A thin lens draws its aperture point; pinholes draw nothing more (their streams stay as they were).
+          const scene::Vec2 lens =
+              camera.aperture_radius > 0 ? scene::Vec2(rng.next_float(), rng.next_float()) : scene::Vec2(0.5f);
+          const auto cr = camera.ray(px, py, lens);
           const Rgb L = tracer.radiance({cr.origin, cr.tnear, cr.direction, cr.tfar}, rng, local_rays);
           if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z))
             sum += glm::dvec3(L);

@@ -32,7 +32,6 @@ const std::map<std::string, std::string> kRefused = {
     {"out-of-scope/mitsuba-data--test_hetero_sigmat_volpath", "participating media are not modelled"},
     // Not supported yet.
     {"mitsuba-data--bsdf_roughconductor_textured_carbon", "textured roughness is not supported"},
-    {"mitsuba-data--sensor_thinlens_small_aperture", "unsupported sensor type 'thinlens'"},
     {"mitsuba-data--test_mesh_attributes_1_face_direct", "unsupported texture type 'mesh_attribute'"},
     {"mitsuba-data--test_mesh_attributes_3_face_direct", "unsupported texture type 'mesh_attribute'"},
     {"mitsuba-data--test_normalmap_identity_roughconductor_path", "unsupported BSDF type 'normalmap'"},

@@ -418,7 +418,7 @@ class Loader final : public loader::Context {
     register_id(n, "sensor");
     const Props p(n);
     const auto reader = loader::sensor_reader(p.type());
-    if (!reader) n.fail("unsupported sensor type '" + p.type() + "' (perspective)");
+    if (!reader) n.fail("unsupported sensor type '" + p.type() + "' (perspective, thinlens, orthographic)");
     if (sensor_seen_) n.fail("a scene has one sensor");
     sensor_seen_ = true;
     scene_.has_sensor = true;

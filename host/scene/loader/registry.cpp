@@ -43,7 +43,10 @@ namespace clr::scene::loader {
   X("directional", read_directional) \
   X("projector", read_projector)
 
-#define CLR_SENSOR_PLUGINS(X) X("perspective", read_perspective)
+#define CLR_SENSOR_PLUGINS(X)        \
+  X("perspective", read_perspective) \
+  X("thinlens", read_thinlens)       \
+  X("orthographic", read_orthographic)
 
 #define CLR_DECLARE_BSDF(type, fn) std::shared_ptr<const Bsdf> fn(Context&, const Props&);
 #define CLR_DECLARE_TEXTURE(type, fn) Texture fn(Context&, const Props&);

@@ -12,8 +12,9 @@ void read_clip_planes(const Props& p, Camera& c) {
   c.far_clip = p.number("far_clip", 1e4f);
   if (!(c.near_clip > 0)) p.expect("near_clip", {"float"}).fail("near_clip must be positive");
   if (!(c.near_clip < c.far_clip)) p.node.fail("near_clip must be smaller than far_clip");
-  // The focal plane matters to a lens only; a pinhole is sharp everywhere.
-  p.ignore({"focus_distance"});
+  // The focal plane matters to a lens only (a pinhole is sharp everywhere); Mitsuba's default is the far plane.
+  c.focus_distance = p.number("focus_distance", c.far_clip);
+  if (!(c.focus_distance > 0)) p.expect("focus_distance", {"float"}).fail("focus_distance must be positive");
 }
 
 void read_fov(const Props& p, Camera& c) {
