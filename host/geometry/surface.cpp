@@ -74,7 +74,7 @@ SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::
 Rgb emitted(const scene::Scene& scene, const SurfacePoint& p, const Vec3& wo) {
   const scene::Shape& s = scene.shapes[p.shape];
   if (!s.is_emitter() || glm::dot(p.frame.n, wo) <= 0) return Rgb(0.0f);
-  return s.radiance;
+  return s.radiance_texture ? s.radiance_texture->eval(p.uv) : s.radiance;
 }
 
 }  // namespace clr::geometry

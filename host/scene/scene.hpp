@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,8 @@ struct Shape {
   Mesh mesh;
   int material = 0;    // index into Scene::materials
   Rgb radiance{0.0f};  // area emitter (emits on the side its shading normal faces); black: none
+  // A textured area emitter's radiance over the surface's uv; `radiance` then holds its mean.
+  std::optional<Texture> radiance_texture;
   bool is_emitter() const { return !is_black(radiance); }
 };
 

@@ -139,3 +139,36 @@ TEST_F(DeltaLights, LoaderReadsTheirPropertiesAndTrainingRefusesThem) {
 
 }  // namespace
 }  // namespace clr::test
+
+namespace clr::test {
+namespace {
+
+class TexturedEmitters : public SceneFiles {};
+
+TEST_F(TexturedEmitters, AreaRadianceFollowsItsTexture) {
+  // An orthographic view framing a rectangle whose radiance is a 4 × 4 checkerboard of 2 and 0: each pixel (8 per
+  // cell) sees one cell, so the image holds 2 and 0 in equal parts.
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="rectangle"><emitter type="area"><texture type="checkerboard" name="radiance">
+      <rgb name="color0" value="2"/><rgb name="color1" value="0"/>
+      <transform name="to_uv"><scale value="2"/></transform></texture></emitter></shape>
+    <sensor type="orthographic">
+      <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+      <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/></film></sensor>)"));
+  ASSERT_TRUE(s.shapes[0].radiance_texture.has_value());
+  EXPECT_FLOAT_EQ(s.shapes[0].radiance.x, 1.0f);  // its mean
+  const geometry::Geometry g(s);
+  reference::RenderOptions o;
+  o.spp = 1;
+  o.max_depth = 1;
+  const auto img = reference::render(g, o);
+  int bright = 0;
+  for (float v : img.rgb) {
+    EXPECT_TRUE(v == 0.0f || v == 2.0f) << v;
+    bright += v == 2.0f;
+  }
+  EXPECT_EQ(bright, int(img.rgb.size()) / 2);
+}
+
+}  // namespace
+}  // namespace clr::test

@@ -351,9 +351,10 @@ class Loader final : public loader::Context {
       if (b) o.fail("a shape has one BSDF");
       b = std::move(nested);
     };
-    auto set_emitter = [&](const Node& o, const Rgb& radiance) {
-      if (s.is_emitter()) o.fail("a shape has one emitter");
-      s.radiance = radiance;
+    auto set_emitter = [&](const Node& o, const Texture& radiance) {
+      if (s.is_emitter() || s.radiance_texture) o.fail("a shape has one emitter");
+      s.radiance = radiance.mean();
+      if (!radiance.is_constant()) s.radiance_texture = radiance;
     };
     auto reference = [&](const Node& o) {
       const std::string id = o.attr("id");
@@ -448,7 +449,7 @@ class Loader final : public loader::Context {
   std::map<std::string, std::string> ids_;  // id → kind of element
   std::map<std::string, std::shared_ptr<const Bsdf>> bsdfs_;
   std::map<std::string, Texture> textures_;
-  std::map<std::string, Rgb> area_emitters_;
+  std::map<std::string, Texture> area_emitters_;
   std::map<std::string, std::vector<Shape>> groups_;  // shapegroups by id
   std::map<std::pair<std::string, bool>, std::shared_ptr<const Bitmap>> bitmaps_;
   std::map<const Bsdf*, int> material_ids_;

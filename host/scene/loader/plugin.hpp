@@ -55,7 +55,7 @@ class Props {
 // An emitter plugin's result: an area emitter's radiance (placed on the shape that holds or references it) or
 // light from infinitely far away.
 struct EmitterPlugin {
-  std::optional<Rgb> area;
+  std::optional<Texture> area;
   std::unique_ptr<Environment> environment;
   std::optional<DeltaLight> delta;
 };
