@@ -31,7 +31,7 @@ class Conductor final : public Bsdf {
   float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
   std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
   Rgb albedo(const Vec2& uv) const override;
-  float roughness() const override { return mf_ ? mf_->alpha : 0.0f; }
+  float roughness() const override { return mf_ ? mf_->mean_alpha() : 0.0f; }
   bool has_non_delta() const override { return mf_.has_value(); }
 
  private:
@@ -50,7 +50,7 @@ class Plastic final : public Bsdf {
   float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
   std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
   Rgb albedo(const Vec2& uv) const override { return diffuse_.eval(uv); }
-  float roughness() const override { return mf_ ? mf_->alpha : 0.0f; }
+  float roughness() const override { return mf_ ? mf_->mean_alpha() : 0.0f; }
   bool has_non_delta() const override { return true; }
 
  private:
@@ -77,7 +77,7 @@ class PolarizedPlastic final : public Bsdf {
   float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
   std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
   Rgb albedo(const Vec2& uv) const override { return diffuse_.eval(uv); }
-  float roughness() const override { return mf_.alpha; }
+  float roughness() const override { return mf_.mean_alpha(); }
   bool has_non_delta() const override { return true; }
 
  private:
@@ -99,7 +99,7 @@ class Dielectric final : public Bsdf {
   float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
   std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
   Rgb albedo(const Vec2&) const override { return Rgb(1.0f); }
-  float roughness() const override { return mf_ ? mf_->alpha : 0.0f; }
+  float roughness() const override { return mf_ ? mf_->mean_alpha() : 0.0f; }
   bool has_non_delta() const override { return kind_ == Kind::rough; }
   bool two_sided() const override { return true; }
 

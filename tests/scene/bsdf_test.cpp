@@ -35,6 +35,7 @@ struct Case {
 void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
 Microfacet mf(Microfacet::Type t, float alpha) { return {t, alpha}; }
+Microfacet mf(Microfacet::Type t, float alpha_u, float alpha_v) { return {t, alpha_u, alpha_v}; }
 constexpr auto kBeckmann = Microfacet::Type::beckmann;
 constexpr auto kGgx = Microfacet::Type::ggx;
 const scene::ComplexIor kGold = *scene::conductor_ior("Au");
@@ -64,6 +65,8 @@ std::vector<Case> cases() {
       {"roughconductor_beckmann_0_5_grazing", conductor(mf(kBeckmann, 0.5f)), 75},
       {"roughconductor_ggx_0_2", conductor(mf(kGgx, 0.2f)), 30},
       {"roughconductor_ggx_0_5_grazing", conductor(mf(kGgx, 0.5f)), 75},
+      {"roughconductor_beckmann_anisotropic", conductor(mf(kBeckmann, 0.1f, 0.4f)), 40},
+      {"roughconductor_ggx_anisotropic_grazing", conductor(mf(kGgx, 0.5f, 0.15f)), 70},
       {"plastic", plastic(std::nullopt, false), 40},
       {"plastic_nonlinear", plastic(std::nullopt, true), 70},
       {"roughplastic_ggx_0_3", plastic(mf(kGgx, 0.3f), false), 40},
@@ -73,6 +76,8 @@ std::vector<Case> cases() {
       {"roughdielectric_ggx_outside", rough_glass(mf(kGgx, 0.3f)), 35},
       {"roughdielectric_ggx_inside", rough_glass(mf(kGgx, 0.3f)), 160, 1.5f * 1.5f},
       {"roughdielectric_beckmann_outside", rough_glass(mf(kBeckmann, 0.4f)), 60},
+      {"roughdielectric_ggx_anisotropic_inside", rough_glass(mf(kGgx, 0.1f, 0.35f)), 150, 1.5f * 1.5f},
+      {"pplastic_ggx_anisotropic", pplastic(mf(kGgx, 0.3f, 0.08f)), 50},
       {"roughdielectric_beckmann_inside", rough_glass(mf(kBeckmann, 0.2f)), 170, 1.5f * 1.5f},
   };
 }

@@ -147,6 +147,23 @@ TEST_F(RealScenes, NamedExteriorIorAndSmoothBsdfsGivenRoughness) {
               HasSubstr("unknown IOR name"));
 }
 
+TEST_F(RealScenes, AnisotropicRoughness) {
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="rectangle"><bsdf type="roughconductor"><float name="alpha_u" value="0.1"/>
+      <float name="alpha_v" value="0.4"/><string name="distribution" value="ggx"/>
+      <boolean name="sample_visible" value="false"/></bsdf></shape>)"));
+  EXPECT_NEAR(s.bsdf(s.shapes[0]).roughness(), 0.2f, 1e-6f);  // the geometric mean
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="roughconductor"><float name="alpha_u" value="0.1"/>
+    </bsdf></shape>)"),
+              HasSubstr("both"));
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="roughplastic"><float name="alpha_u" value="0.1"/>
+    <float name="alpha_v" value="0.3"/></bsdf></shape>)"),
+              HasSubstr("not supported by roughplastic"));
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="roughconductor">
+    <texture type="checkerboard" name="alpha"/></bsdf></shape>)"),
+              HasSubstr("textured roughness"));
+}
+
 TEST_F(RealScenes, MaxSmoothAngleKeepsCreases) {
   // Two faces meeting at 90° along the edge x = 0.
   write("fold.obj", "v 0 0 0\nv 0 1 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\n");

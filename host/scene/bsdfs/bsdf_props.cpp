@@ -32,9 +32,12 @@ Microfacet read_microfacet(const Props& p) {
     if (const Node* n = p.find(name); n && (n->tag() == "texture" || n->tag() == "ref"))
       n->fail("textured roughness is not supported");
   if (p.has("alpha_u") || p.has("alpha_v")) {
-    const float au = p.number("alpha_u", 0.1f), av = p.number("alpha_v", 0.1f);
-    if (au != av) p.node.fail("anisotropic roughness is not supported");
-    mf.alpha = au;
+    if (p.has("alpha")) p.node.fail("give either 'alpha' or 'alpha_u' and 'alpha_v', not both");
+    if (!p.has("alpha_u") || !p.has("alpha_v")) p.node.fail("give both 'alpha_u' and 'alpha_v'");
+    mf.alpha = p.number("alpha_u", 0.1f);
+    mf.alpha_v = p.number("alpha_v", 0.1f);
+    if (!(mf.alpha_v >= 1e-4f)) p.node.fail("alpha_v must be at least 1e-4");
+    if (mf.alpha_v == mf.alpha) mf.alpha_v = 0;
   } else {
     mf.alpha = p.number("alpha", 0.1f);
   }

@@ -130,8 +130,11 @@ std::shared_ptr<const Bsdf> read_plastic(Context& ctx, const Props& p) {
   const float eta = read_ior(p, "int_ior", 1.49f) / read_ior(p, "ext_ior", 1.000277f);
   const bool rough = p.type() == "roughplastic";
   if (!rough) ignore_roughness(p);
+  const auto mf = rough ? std::optional(read_microfacet(p)) : std::nullopt;
+  // The coating's transmittance is tabulated over cos θ alone, which an anisotropic lobe would make depend on φ.
+  if (mf && mf->anisotropic()) p.node.fail("anisotropic roughness is not supported by roughplastic");
   return std::make_shared<Plastic>(eta, ctx.texture(p, "diffuse_reflectance", Rgb(0.5f)),
                                    ctx.texture(p, "specular_reflectance", Rgb(1.0f)), p.boolean("nonlinear", false),
-                                   rough ? std::optional(read_microfacet(p)) : std::nullopt);
+                                   mf);
 }
 }  // namespace clr::scene::loader
