@@ -1,6 +1,7 @@
 #pragma once
 // The Mitsuba BSDF plugins clradiosity models (one .cpp each, bsdf_<name>.cpp). Parameters follow Mitsuba 3:
 // IORs are relative (interior over exterior), reflectances are textures.
+#include <algorithm>
 #include <vector>
 
 #include "scene/bsdf.hpp"
@@ -110,6 +111,41 @@ class Dielectric final : public Bsdf {
   float eta_;
   Texture reflectance_, transmittance_;
   std::optional<Microfacet> mf_;
+};
+
+// Mitsuba's `blendbsdf`: (1 − weight)·first + weight·second, the weight a texture over uv (its first channel).
+class BlendBsdf final : public Bsdf {
+ public:
+  BlendBsdf(Texture weight, std::shared_ptr<const Bsdf> first, std::shared_ptr<const Bsdf> second)
+      : weight_(std::move(weight)), a_(std::move(first)), b_(std::move(second)) {}
+  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const Vec2& uv) const override;
+  float roughness() const override;
+  bool has_non_delta() const override { return a_->has_non_delta() || b_->has_non_delta(); }
+  bool two_sided() const override { return a_->two_sided() || b_->two_sided(); }
+
+ private:
+  float weight(const Vec2& uv) const { return std::clamp(weight_.eval(uv).x, 0.0f, 1.0f); }
+  Texture weight_;
+  std::shared_ptr<const Bsdf> a_, b_;
+};
+
+// Mitsuba's `null`: no surface at all for light (rays pass straight through) — a fully transparent mask, cut by
+// the geometry's alpha test, that never scatters.
+class NullBsdf final : public Bsdf {
+ public:
+  Rgb eval(const Vec2&, const Vec3&, const Vec3&) const override { return Rgb(0.0f); }
+  float pdf(const Vec2&, const Vec3&, const Vec3&) const override { return 0.0f; }
+  std::optional<BsdfSample> sample(const Vec2&, const Vec3&, float, const Vec2&) const override { return std::nullopt; }
+  Rgb albedo(const Vec2&) const override { return Rgb(0.0f); }
+  float roughness() const override { return 0.0f; }
+  bool has_non_delta() const override { return false; }
+  const Texture* opacity() const override { return &transparent_; }
+
+ private:
+  Texture transparent_{Rgb(0.0f)};
 };
 
 // Base of the wrappers (twosided, mask, bumpmap): forwards everything to the nested BSDF.

@@ -73,6 +73,8 @@ std::vector<Case> cases() {
       {"roughplastic_beckmann_0_2", plastic(mf(kBeckmann, 0.2f), true), 60},
       {"pplastic_beckmann_0_1", pplastic(mf(kBeckmann, 0.1f)), 40},
       {"pplastic_ggx_0_4_grazing", pplastic(mf(kGgx, 0.4f)), 75},
+      {"blend_diffuse_roughconductor",
+       [=] { return std::make_shared<scene::BlendBsdf>(Rgb(0.3f), diffuse(), conductor(mf(kGgx, 0.15f))()); }, 45},
       {"roughdielectric_ggx_outside", rough_glass(mf(kGgx, 0.3f)), 35},
       {"roughdielectric_ggx_inside", rough_glass(mf(kGgx, 0.3f)), 160, 1.5f * 1.5f},
       {"roughdielectric_beckmann_outside", rough_glass(mf(kBeckmann, 0.4f)), 60},

@@ -4,11 +4,14 @@
 // wavelength:value pairs, crease-angle normals; and the refusals of what clradiosity does not model.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <stb_image_write.h>
 
 #include <cmath>
 
 #include "common/error.hpp"
+#include "geometry/geometry.hpp"
 #include "image/image.hpp"
+#include "reference/path_tracer.hpp"
 #include "scene/bsdfs.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_files.hpp"
@@ -162,6 +165,27 @@ TEST_F(RealScenes, AnisotropicRoughness) {
   EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="roughconductor">
     <texture type="checkerboard" name="alpha"/></bsdf></shape>)"),
               HasSubstr("textured roughness"));
+}
+
+TEST_F(RealScenes, NullBsdfLetsLightThroughAndRadianceHdrEnvmaps) {
+  // A Radiance .hdr environment of 0.25 seen through a rectangle with a null BSDF, which no ray meets.
+  const float texels[4 * 2 * 3] = {0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f,
+                                   0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f};
+  ASSERT_TRUE(stbi_write_hdr((dir_ / "sky.hdr").c_str(), 4, 2, 3, texels));
+  const auto s = scene::load_scene(scene(R"(
+    <emitter type="envmap"><string name="filename" value="sky.hdr"/><float name="scale" value="2"/></emitter>
+    <shape type="rectangle"><bsdf type="null"/><transform name="to_world"><scale value="10"/></transform></shape>
+    <sensor type="perspective"><float name="fov" value="20"/>
+      <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform></sensor>)"));
+  const geometry::Geometry g(s);
+  reference::RenderOptions o;
+  o.width = o.height = 4;
+  o.spp = 2;
+  for (float v : reference::render(g, o).rgb) EXPECT_NEAR(v, 0.5f, 1e-3f);
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="null"/><emitter type="area"/></shape>)"),
+              HasSubstr("null BSDF"));
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="blendbsdf"><bsdf type="diffuse"/></bsdf></shape>)"),
+              HasSubstr("exactly two"));
 }
 
 TEST_F(RealScenes, MaxSmoothAngleKeepsCreases) {

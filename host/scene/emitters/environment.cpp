@@ -24,7 +24,7 @@ Environment Environment::constant(const Rgb& radiance) {
 
 Environment Environment::envmap(const std::filesystem::path& path, float scale, const glm::mat4& to_world) {
   if (!std::filesystem::exists(path)) throw InputError(path.string() + ": environment map not found");
-  const image::Image img = image::read_exr(path);
+  const image::Image img = image::read_float_image(path);
   Environment e;
   e.width_ = img.width;
   e.height_ = img.height;

@@ -382,6 +382,10 @@ class Loader final : public loader::Context {
     for (const auto& [name, o] : p.named)
       if (o.tag() == "ref") reference(*p.find(name));
     p.check_all_used();
+    // A null BSDF makes the surface vanish for every ray, its emission with it, while light sampling would still
+    // find the emitter: the two would disagree.
+    if (s.is_emitter() && b && dynamic_cast<const NullBsdf*>(b.get()))
+      n.fail("an emitting shape with a null BSDF is not supported (its surface is invisible to rays)");
     s.material = material_index(b ? b : default_bsdf());
     return s;
   }

@@ -18,7 +18,9 @@ namespace clr::scene::loader {
   X("thindielectric", read_dielectric)  \
   X("roughdielectric", read_dielectric) \
   X("mask", read_mask)                  \
-  X("bumpmap", read_bumpmap)
+  X("bumpmap", read_bumpmap)            \
+  X("blendbsdf", read_blendbsdf)        \
+  X("null", read_null)
 
 #define CLR_TEXTURE_PLUGINS(X) \
   X("bitmap", read_bitmap)     \

@@ -19,7 +19,7 @@ std::shared_ptr<const Bitmap> Bitmap::load(const std::filesystem::path& path, bo
   auto ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   // EXR stores linear values already; 8-bit formats are sRGB-encoded unless the scene says `raw`.
-  const image::Image img = ext == ".exr" ? image::read_exr(path) : image::read_ldr(path, !raw);
+  const image::Image img = ext == ".exr" || ext == ".hdr" ? image::read_float_image(path) : image::read_ldr(path, !raw);
   auto bmp = std::make_shared<Bitmap>();
   bmp->width = img.width;
   bmp->height = img.height;
