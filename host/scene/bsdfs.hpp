@@ -34,6 +34,7 @@ class Conductor final : public Bsdf {
   Rgb albedo(const Vec2& uv) const override;
   float roughness() const override { return mf_ ? mf_->mean_alpha() : 0.0f; }
   bool has_non_delta() const override { return mf_.has_value(); }
+  bool anisotropic() const override { return mf_ && mf_->anisotropic(); }
 
  private:
   Rgb eta_, k_;
@@ -80,6 +81,7 @@ class PolarizedPlastic final : public Bsdf {
   Rgb albedo(const Vec2& uv) const override { return diffuse_.eval(uv); }
   float roughness() const override { return mf_.mean_alpha(); }
   bool has_non_delta() const override { return true; }
+  bool anisotropic() const override { return mf_.anisotropic(); }
 
  private:
   float eta_;
@@ -102,6 +104,7 @@ class Dielectric final : public Bsdf {
   Rgb albedo(const Vec2&) const override { return Rgb(1.0f); }
   float roughness() const override { return mf_ ? mf_->mean_alpha() : 0.0f; }
   bool has_non_delta() const override { return kind_ == Kind::rough; }
+  bool anisotropic() const override { return mf_ && mf_->anisotropic(); }
   bool two_sided() const override { return true; }
 
  private:
@@ -125,6 +128,7 @@ class BlendBsdf final : public Bsdf {
   float roughness() const override;
   bool has_non_delta() const override { return a_->has_non_delta() || b_->has_non_delta(); }
   bool two_sided() const override { return a_->two_sided() || b_->two_sided(); }
+  bool anisotropic() const override { return a_->anisotropic() || b_->anisotropic(); }
 
  private:
   float weight(const Vec2& uv) const { return std::clamp(weight_.eval(uv).x, 0.0f, 1.0f); }
@@ -163,6 +167,8 @@ class NestedBsdf : public Bsdf {
   bool two_sided() const override { return nested_->two_sided(); }
   const Texture* opacity() const override { return nested_->opacity(); }
   const BumpMap* bump() const override { return nested_->bump(); }
+  const Texture* normal_map() const override { return nested_->normal_map(); }
+  bool anisotropic() const override { return nested_->anisotropic(); }
 
  protected:
   std::shared_ptr<const Bsdf> nested_;
@@ -193,6 +199,17 @@ class Mask final : public NestedBsdf {
 
  private:
   Texture opacity_;
+};
+
+// Mitsuba's `normalmap`: the scene replaces the shading normal by the texture's, given in the tangent frame.
+class NormalMapped final : public NestedBsdf {
+ public:
+  NormalMapped(Texture normals, std::shared_ptr<const Bsdf> nested)
+      : NestedBsdf(std::move(nested)), normals_(std::move(normals)) {}
+  const Texture* normal_map() const override { return &normals_; }
+
+ private:
+  Texture normals_;
 };
 
 // Mitsuba's `bumpmap`: the scene tilts the shading frame by the height field's gradient before the nested BSDF

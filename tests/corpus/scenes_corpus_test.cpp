@@ -34,7 +34,6 @@ const std::map<std::string, std::string> kRefused = {
     {"mitsuba-data--bsdf_roughconductor_textured_carbon", "textured roughness is not supported"},
     {"mitsuba-data--test_mesh_attributes_1_face_direct", "unsupported texture type 'mesh_attribute'"},
     {"mitsuba-data--test_mesh_attributes_3_face_direct", "unsupported texture type 'mesh_attribute'"},
-    {"mitsuba-data--test_normalmap_identity_roughconductor_path", "unsupported BSDF type 'normalmap'"},
     {"mitsuba-data--test_various_shapes_path", "unsupported shape type 'sdfgrid'"},
 };
 

@@ -20,11 +20,13 @@ namespace clr::scene::loader {
   X("mask", read_mask)                  \
   X("bumpmap", read_bumpmap)            \
   X("blendbsdf", read_blendbsdf)        \
-  X("null", read_null)
+  X("null", read_null)                  \
+  X("normalmap", read_normalmap)
 
-#define CLR_TEXTURE_PLUGINS(X) \
-  X("bitmap", read_bitmap)     \
-  X("checkerboard", read_checkerboard)
+#define CLR_TEXTURE_PLUGINS(X)         \
+  X("bitmap", read_bitmap)             \
+  X("checkerboard", read_checkerboard) \
+  X("rawconstant", read_rawconstant)
 
 #define CLR_SHAPE_PLUGINS(X)       \
   X("obj", read_obj)               \
