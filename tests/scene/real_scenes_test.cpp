@@ -188,6 +188,40 @@ TEST_F(RealScenes, NullBsdfLetsLightThroughAndRadianceHdrEnvmaps) {
               HasSubstr("exactly two"));
 }
 
+TEST_F(RealScenes, BitmapWrapModesAndGamma) {
+  image::Image img(2, 1);
+  img.rgb = {0, 0, 0, 1, 1, 1};  // black, white
+  image::write_png(dir_ / "bw.png", img);
+  img.rgb.assign(6, 0.5f);
+  image::write_png(dir_ / "grey.png", img);
+  const auto s = scene::load_scene(scene(R"(
+    <texture type="bitmap" id="repeat"><string name="filename" value="bw.png"/>
+      <string name="filter_type" value="nearest"/><boolean name="raw" value="true"/></texture>
+    <texture type="bitmap" id="clamp"><string name="filename" value="bw.png"/><string name="wrap_mode" value="clamp"/>
+      <string name="filter_type" value="nearest"/><boolean name="raw" value="true"/></texture>
+    <texture type="bitmap" id="mirror"><string name="filename" value="bw.png"/><string name="wrap_mode" value="mirror"/>
+      <string name="filter_type" value="nearest"/><boolean name="raw" value="true"/></texture>
+    <shape type="rectangle"><bsdf type="diffuse"><ref name="reflectance" id="repeat"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="diffuse"><ref name="reflectance" id="clamp"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="diffuse"><ref name="reflectance" id="mirror"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance">
+      <string name="filename" value="grey.png"/><boolean name="raw" value="true"/></texture></bsdf></shape>
+    <shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance">
+      <string name="filename" value="grey.png"/><float name="gamma" value="2.2"/></texture></bsdf></shape>)"));
+  auto at = [&](std::size_t shape, float u) { return s.bsdf(s.shapes[shape]).albedo(Vec2(u, 0.5f)).x; };
+  // u = 1.25 is texel 2 and u = −0.25 texel −1 of a 2-texel row.
+  EXPECT_EQ(at(0, 1.25f), 0.0f);
+  EXPECT_EQ(at(0, -0.25f), 1.0f);
+  EXPECT_EQ(at(1, 1.25f), 1.0f);
+  EXPECT_EQ(at(1, -0.25f), 0.0f);
+  EXPECT_EQ(at(2, 1.25f), 1.0f);  // mirrored back onto texel 1
+  EXPECT_EQ(at(2, -0.25f), 0.0f);
+  EXPECT_NEAR(at(4, 0.5f), std::pow(at(3, 0.5f), 2.2f), 1e-5f);  // gamma decodes v^2.2
+  EXPECT_THAT(refusal(R"(<texture type="bitmap"><string name="filename" value="bw.png"/>
+    <string name="wrap_mode" value="zero"/></texture>)"),
+              HasSubstr("unsupported wrap_mode"));
+}
+
 TEST_F(RealScenes, MaxSmoothAngleKeepsCreases) {
   // Two faces meeting at 90° along the edge x = 0.
   write("fold.obj", "v 0 0 0\nv 0 1 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\n");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <set>
+#include <tuple>
 
 #include "common/error.hpp"
 #include "image/image.hpp"
@@ -83,9 +84,9 @@ class Loader final : public loader::Context {
     return out;
   }
 
-  std::shared_ptr<const Bitmap> bitmap(const std::filesystem::path& file, bool raw) override {
-    auto& cached = bitmaps_[{file.string(), raw}];
-    if (!cached) cached = Bitmap::load(file, raw);
+  std::shared_ptr<const Bitmap> bitmap(const std::filesystem::path& file, bool raw, float gamma) override {
+    auto& cached = bitmaps_[{file.string(), raw, gamma}];
+    if (!cached) cached = Bitmap::load(file, raw, gamma);
     return cached;
   }
 
@@ -455,7 +456,7 @@ class Loader final : public loader::Context {
   std::map<std::string, Texture> textures_;
   std::map<std::string, Texture> area_emitters_;
   std::map<std::string, std::vector<Shape>> groups_;  // shapegroups by id
-  std::map<std::pair<std::string, bool>, std::shared_ptr<const Bitmap>> bitmaps_;
+  std::map<std::tuple<std::string, bool, float>, std::shared_ptr<const Bitmap>> bitmaps_;
   std::map<const Bsdf*, int> material_ids_;
   std::shared_ptr<const Bsdf> default_bsdf_;
   bool sensor_seen_ = false;
