@@ -23,6 +23,24 @@ class Diffuse final : public Bsdf {
   Texture reflectance_;
 };
 
+// Mitsuba 0.6's `roughdiffuse`: the Oren–Nayar (1994) model of V-groove facets, with σ = alpha/√2 (Mitsuba's match
+// of its Beckmann-style roughness), the full model with interreflections or its fast approximation.
+class RoughDiffuse final : public Bsdf {
+ public:
+  RoughDiffuse(Texture reflectance, Texture alpha, bool fast)
+      : reflectance_(std::move(reflectance)), alpha_(std::move(alpha)), fast_(fast) {}
+  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const Vec2& uv) const override { return reflectance_.eval(uv); }
+  float roughness() const override { return 1.0f; }
+  bool has_non_delta() const override { return true; }
+
+ private:
+  Texture reflectance_, alpha_;
+  bool fast_;
+};
+
 // Smooth (`conductor`) when `microfacet` is empty, else `roughconductor`.
 class Conductor final : public Bsdf {
  public:

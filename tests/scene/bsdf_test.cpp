@@ -60,6 +60,9 @@ std::vector<Case> cases() {
   };
   return {
       {"diffuse", diffuse, 30},
+      {"roughdiffuse_full",
+       [] { return std::make_shared<scene::RoughDiffuse>(Rgb(0.8f, 0.5f, 0.2f), Rgb(0.5f), false); }, 50},
+      {"roughdiffuse_fast", [] { return std::make_shared<scene::RoughDiffuse>(Rgb(0.8f), Rgb(0.3f), true); }, 20},
       {"twosided_diffuse_back", [=] { return std::make_shared<scene::TwoSided>(diffuse(), diffuse()); }, 130},
       {"roughconductor_beckmann_0_2", conductor(mf(kBeckmann, 0.2f)), 30},
       {"roughconductor_beckmann_0_5_grazing", conductor(mf(kBeckmann, 0.5f)), 75},
@@ -230,6 +233,19 @@ TEST(TwoSided, BackSideMirrorsFront) {
   EXPECT_NEAR(two.eval(Vec2(0), wo_b, wi_b).x, 0.25f / scene::kPi * wi.z, 1e-6f);
   EXPECT_EQ(two.eval(Vec2(0), wo_b, wi).x, 0.0f);                          // no transmission
   EXPECT_EQ(scene::Diffuse(Rgb(0.5f)).eval(Vec2(0), wo_b, wi_b).x, 0.0f);  // one-sided without the wrapper
+}
+
+TEST(RoughDiffuse, LambertianWhenSmoothAndReciprocal) {
+  const scene::RoughDiffuse smooth(Rgb(0.6f), Rgb(0.0f), false), rough(Rgb(0.6f), Rgb(0.7f), false),
+      fast(Rgb(0.6f), Rgb(0.7f), true);
+  for (const float to : {10.0f, 50.0f, 80.0f})
+    for (const float ti : {5.0f, 40.0f, 85.0f}) {
+      const Vec3 wo = direction(to, 20.0f), wi = direction(ti, 140.0f);
+      EXPECT_NEAR(smooth.eval(Vec2(0), wo, wi).x, 0.6f * scene::kInvPi * wi.z, 1e-6f);  // σ = 0: Lambert
+      for (const scene::RoughDiffuse* b : {&rough, &fast})
+        EXPECT_NEAR(b->eval(Vec2(0), wo, wi).x / wi.z, b->eval(Vec2(0), wi, wo).x / wo.z,
+                    1e-5f);  // f(wo, wi) = f(wi, wo)
+    }
 }
 
 }  // namespace

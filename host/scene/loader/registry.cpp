@@ -8,6 +8,7 @@ namespace clr::scene::loader {
 // X(type, reader): the reader is defined in the plugin's own file (bsdfs/<name>.cpp, ...).
 #define CLR_BSDF_PLUGINS(X)             \
   X("diffuse", read_diffuse)            \
+  X("roughdiffuse", read_roughdiffuse)  \
   X("twosided", read_twosided)          \
   X("conductor", read_conductor)        \
   X("roughconductor", read_conductor)   \
