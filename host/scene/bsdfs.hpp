@@ -41,23 +41,30 @@ class RoughDiffuse final : public Bsdf {
   bool fast_;
 };
 
-// Smooth (`conductor`) when `microfacet` is empty, else `roughconductor`.
+// Smooth (`conductor`) when `microfacet` is empty, else `roughconductor`, whose roughness may be a texture over uv
+// (`alpha`, or `alpha_u` and `alpha_v`; their first channel): it then replaces the microfacet's alphas.
 class Conductor final : public Bsdf {
  public:
-  Conductor(Rgb eta, Rgb k, Texture specular, std::optional<Microfacet> microfacet)
-      : eta_(eta), k_(k), specular_(std::move(specular)), mf_(microfacet) {}
+  struct RoughnessTextures {
+    Texture alpha_u, alpha_v;
+  };
+  Conductor(Rgb eta, Rgb k, Texture specular, std::optional<Microfacet> microfacet,
+            std::optional<RoughnessTextures> textured = std::nullopt)
+      : eta_(eta), k_(k), specular_(std::move(specular)), mf_(microfacet), textured_(std::move(textured)) {}
   Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
   float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
   std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
   Rgb albedo(const Vec2& uv) const override;
   float roughness() const override { return mf_ ? mf_->mean_alpha() : 0.0f; }
   bool has_non_delta() const override { return mf_.has_value(); }
-  bool anisotropic() const override { return mf_ && mf_->anisotropic(); }
+  bool anisotropic() const override { return mf_ && (mf_->anisotropic() || textured_); }
 
  private:
+  Microfacet microfacet(const Vec2& uv) const;
   Rgb eta_, k_;
   Texture specular_;
   std::optional<Microfacet> mf_;
+  std::optional<RoughnessTextures> textured_;
 };
 
 // A diffuse substrate under a dielectric coating: `plastic` (smooth coating, a delta specular lobe) or

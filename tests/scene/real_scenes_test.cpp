@@ -162,9 +162,31 @@ TEST_F(RealScenes, AnisotropicRoughness) {
   EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="roughplastic"><float name="alpha_u" value="0.1"/>
     <float name="alpha_v" value="0.3"/></bsdf></shape>)"),
               HasSubstr("not supported by roughplastic"));
-  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="roughconductor">
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="roughdielectric">
     <texture type="checkerboard" name="alpha"/></bsdf></shape>)"),
-              HasSubstr("textured roughness"));
+              HasSubstr("textured roughness is not supported by roughdielectric"));
+}
+
+TEST_F(RealScenes, TexturedRoughnessOfRoughConductors) {
+  // A checkerboard of (alpha_u, alpha_v) = (0.05, 0.3) and (0.3, 0.05) evaluates like the untextured conductor of
+  // the cell's roughness.
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="rectangle"><bsdf type="roughconductor"><string name="material" value="Cu"/>
+      <texture type="checkerboard" name="alpha_u"><float name="color0" value="0.05"/><float name="color1" value="0.3"/>
+      </texture>
+      <texture type="checkerboard" name="alpha_v"><float name="color0" value="0.3"/><float name="color1" value="0.05"/>
+      </texture></bsdf></shape>
+    <shape type="rectangle"><bsdf type="roughconductor"><string name="material" value="Cu"/>
+      <float name="alpha_u" value="0.05"/><float name="alpha_v" value="0.3"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="roughconductor"><string name="material" value="Cu"/>
+      <float name="alpha_u" value="0.3"/><float name="alpha_v" value="0.05"/></bsdf></shape>)"));
+  const auto& textured = s.bsdf(s.shapes[0]);
+  EXPECT_TRUE(textured.anisotropic());
+  const Vec3 wo = glm::normalize(Vec3(0.3f, 0.1f, 1.0f)), wi = glm::normalize(Vec3(-0.2f, 0.25f, 1.0f));
+  for (const auto& [uv, plain] : {std::pair{Vec2(0.25f, 0.25f), 1}, std::pair{Vec2(0.75f, 0.25f), 2}}) {
+    EXPECT_FLOAT_EQ(textured.eval(uv, wo, wi).x, s.bsdf(s.shapes[std::size_t(plain)]).eval(uv, wo, wi).x);
+    EXPECT_FLOAT_EQ(textured.pdf(uv, wo, wi), s.bsdf(s.shapes[std::size_t(plain)]).pdf(uv, wo, wi));
+  }
 }
 
 TEST_F(RealScenes, NullBsdfLetsLightThroughAndRadianceHdrEnvmaps) {

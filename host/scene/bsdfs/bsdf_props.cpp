@@ -19,7 +19,7 @@ float read_ior(const Props& p, const std::string& name, float fallback) {
   return v;
 }
 
-Microfacet read_microfacet(const Props& p) {
+Microfacet read_microfacet(const Props& p, bool textured) {
   Microfacet mf;
   const std::string d = p.string("distribution", "beckmann");
   if (d == "beckmann")
@@ -28,9 +28,12 @@ Microfacet read_microfacet(const Props& p) {
     mf.type = Microfacet::Type::ggx;
   else
     p.expect("distribution", {"string"}).fail("unsupported distribution '" + d + "' (beckmann, ggx)");
+  // Visible-normal sampling is a choice of sampling technique, not of appearance.
+  p.ignore({"sample_visible"});
+  if (textured) return mf;
   for (const char* name : {"alpha", "alpha_u", "alpha_v"})
     if (const Node* n = p.find(name); n && (n->tag() == "texture" || n->tag() == "ref"))
-      n->fail("textured roughness is not supported");
+      n->fail("textured roughness is not supported by " + p.type() + " (roughconductor has it)");
   if (p.has("alpha_u") || p.has("alpha_v")) {
     if (p.has("alpha")) p.node.fail("give either 'alpha' or 'alpha_u' and 'alpha_v', not both");
     if (!p.has("alpha_u") || !p.has("alpha_v")) p.node.fail("give both 'alpha_u' and 'alpha_v'");
@@ -41,8 +44,6 @@ Microfacet read_microfacet(const Props& p) {
   } else {
     mf.alpha = p.number("alpha", 0.1f);
   }
-  // Visible-normal sampling is a choice of sampling technique, not of appearance.
-  p.ignore({"sample_visible"});
   // Below 1e-4 the lobe is numerically a delta; a mirror would be the better model.
   if (!(mf.alpha >= 1e-4f)) p.node.fail("alpha must be at least 1e-4");
   return mf;

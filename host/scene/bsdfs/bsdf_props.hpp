@@ -7,7 +7,8 @@
 namespace clr::scene::loader {
 
 float read_ior(const Props& p, const std::string& name, float fallback);
-Microfacet read_microfacet(const Props& p);
+// `textured`: the alphas are textures the plugin reads itself; only the distribution is read here.
+Microfacet read_microfacet(const Props& p, bool textured = false);
 // A smooth plugin (conductor, plastic, dielectric) given a roughness or distribution, which Mitsuba's smooth
 // plugins never read: it stays smooth, with a warning on stderr.
 void ignore_roughness(const Props& p);
