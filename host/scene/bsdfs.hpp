@@ -2,6 +2,7 @@
 // The Mitsuba BSDF plugins clradiosity models (one .cpp each, bsdf_<name>.cpp). Parameters follow Mitsuba 3:
 // IORs are relative (interior over exterior), reflectances are textures.
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "scene/bsdf.hpp"
@@ -39,6 +40,24 @@ class RoughDiffuse final : public Bsdf {
  private:
   Texture reflectance_, alpha_;
   bool fast_;
+};
+
+// Mitsuba 0.6's `phong`: Lambertian plus the normalised modified Phong lobe around the mirror direction.
+class Phong final : public Bsdf {
+ public:
+  Phong(Texture diffuse, Texture specular, float exponent);
+  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const Vec2& uv) const override { return diffuse_.eval(uv); }
+  // The Phong lobe's width matched to a Beckmann alpha (n = 2/α² − 2).
+  float roughness() const override { return std::sqrt(2.0f / (exponent_ + 2.0f)); }
+  bool has_non_delta() const override { return true; }
+
+ private:
+  Texture diffuse_, specular_;
+  float exponent_;
+  float specular_probability_;
 };
 
 // Smooth (`conductor`) when `microfacet` is empty, else `roughconductor`, whose roughness may be a texture over uv

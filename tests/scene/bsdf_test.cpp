@@ -63,6 +63,8 @@ std::vector<Case> cases() {
       {"roughdiffuse_full",
        [] { return std::make_shared<scene::RoughDiffuse>(Rgb(0.8f, 0.5f, 0.2f), Rgb(0.5f), false); }, 50},
       {"roughdiffuse_fast", [] { return std::make_shared<scene::RoughDiffuse>(Rgb(0.8f), Rgb(0.3f), true); }, 20},
+      {"phong_30", [] { return std::make_shared<scene::Phong>(Rgb(0.5f), Rgb(0.2f), 30.0f); }, 35},
+      {"phong_5_grazing", [] { return std::make_shared<scene::Phong>(Rgb(0.3f, 0.2f, 0.1f), Rgb(0.6f), 5.0f); }, 70},
       {"twosided_diffuse_back", [=] { return std::make_shared<scene::TwoSided>(diffuse(), diffuse()); }, 130},
       {"roughconductor_beckmann_0_2", conductor(mf(kBeckmann, 0.2f)), 30},
       {"roughconductor_beckmann_0_5_grazing", conductor(mf(kBeckmann, 0.5f)), 75},

@@ -244,6 +244,19 @@ TEST_F(RealScenes, BitmapWrapModesAndGamma) {
               HasSubstr("unsupported wrap_mode"));
 }
 
+TEST_F(RealScenes, PhongAndRoughDiffuseFromMitsubaZeroFiles) {
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="rectangle"><bsdf type="phong"><rgb name="diffuseReflectance" value="1.5, 0.75, 0"/>
+      <float name="exponent" value="8"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="roughdiffuse"><rgb name="diffuseReflectance" value="0.4"/>
+      <float name="alpha" value="0.3"/><boolean name="useFastApprox" value="true"/></bsdf></shape>)",
+                                         "0.6.0"));
+  // ensureEnergyConservation: a reflectance above 1 is scaled down to 1.
+  EXPECT_FLOAT_EQ(s.bsdf(s.shapes[0]).albedo(Vec2(0)).x, 1.0f);
+  EXPECT_FLOAT_EQ(s.bsdf(s.shapes[0]).albedo(Vec2(0)).y, 0.5f);
+  EXPECT_FLOAT_EQ(s.bsdf(s.shapes[1]).albedo(Vec2(0)).x, 0.4f);
+}
+
 TEST_F(RealScenes, MaxSmoothAngleKeepsCreases) {
   // Two faces meeting at 90° along the edge x = 0.
   write("fold.obj", "v 0 0 0\nv 0 1 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\n");

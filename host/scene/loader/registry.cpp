@@ -9,6 +9,7 @@ namespace clr::scene::loader {
 #define CLR_BSDF_PLUGINS(X)             \
   X("diffuse", read_diffuse)            \
   X("roughdiffuse", read_roughdiffuse)  \
+  X("phong", read_phong)                \
   X("twosided", read_twosided)          \
   X("conductor", read_conductor)        \
   X("roughconductor", read_conductor)   \
