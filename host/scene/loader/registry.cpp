@@ -10,6 +10,7 @@ namespace clr::scene::loader {
   X("diffuse", read_diffuse)            \
   X("roughdiffuse", read_roughdiffuse)  \
   X("phong", read_phong)                \
+  X("ward", read_ward)                  \
   X("twosided", read_twosided)          \
   X("conductor", read_conductor)        \
   X("roughconductor", read_conductor)   \
