@@ -67,8 +67,15 @@ Command add_render_command(CLI::App& app) {
                   glm::mat4(glm::vec4(x, 0), glm::vec4(glm::cross(z, x), 0), glm::vec4(z, 0), glm::vec4(origin, 1));
               scene.camera.fov_degrees = c[9];
               scene.camera.fov_axis = scene::Camera::FovAxis::y;
+              scene.camera.projection = scene::Camera::Projection::perspective;
+              scene.camera.aperture_radius = 0;
               scene.camera.validate("--camera");
             }
+            // The model's renderer traces pinhole rays; depth of field is the reference's alone.
+            if (scene.camera.aperture_radius > 0)
+              throw InputError(opt->scene +
+                               ": a thinlens sensor is rendered by `reference` only (give --camera to render a "
+                               "pinhole view of the model)");
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
             auto network = radiosity::RunDirectory::load_radiance(ctx, opt->model);

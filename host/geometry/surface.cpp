@@ -58,23 +58,52 @@ SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::
     if (l > 0) n = ns / l;
   }
   if (!m.uvs.empty()) p.uv = b0 * m.uvs[t.x] + b.x * m.uvs[t.y] + b.y * m.uvs[t.z];
-  if (const auto* bump = scene.bsdf(s).bump(); bump && !m.uvs.empty()) {
-    // dp/du and dp/dv from the triangle's uv parametrisation; a degenerate uv map leaves the normal untouched.
+  const scene::Bsdf& bsdf = scene.bsdf(s);
+  const auto* bump = bsdf.bump();
+  const auto* normal_map = bsdf.normal_map();
+  if (!bump && !normal_map && !bsdf.anisotropic()) {
+    p.frame = scene::Frame(n);
+    return p;
+  }
+  // dp/du and dp/dv from the triangle's uv parametrisation; without uvs (or with a degenerate map) the frame's own
+  // tangent stands in for dp/du and bump mapping is skipped.
+  Vec3 dpdu(0.0f), dpdv(0.0f);
+  bool have_uv = false;
+  if (!m.uvs.empty()) {
     const Vec2 d1 = m.uvs[t.y] - m.uvs[t.x], d2 = m.uvs[t.z] - m.uvs[t.x];
     const float det = d1.x * d2.y - d1.y * d2.x;
     if (std::fabs(det) > 1e-12f) {
-      const Vec3 dpdu = (d2.y * e1 - d1.y * e2) / det, dpdv = (d1.x * e2 - d2.x * e1) / det;
-      n = bump_normal(*bump, n, dpdu, dpdv, p.uv);
+      dpdu = (d2.y * e1 - d1.y * e2) / det;
+      dpdv = (d1.x * e2 - d2.x * e1) / det;
+      have_uv = true;
     }
   }
-  p.frame = scene::Frame(n);
+  if (bump && have_uv) n = bump_normal(*bump, n, dpdu, dpdv, p.uv);
+  // The shading frame Mitsuba uses for normal maps and anisotropic lobes: s = dp/du made orthogonal to n.
+  auto tangent_frame = [&](const Vec3& normal) {
+    const Vec3 s_raw = dpdu - normal * glm::dot(normal, dpdu);
+    const float l = glm::length(s_raw);
+    if (!have_uv || !(l > 1e-12f)) return scene::Frame(normal);
+    scene::Frame f;
+    f.n = normal;
+    f.s = s_raw / l;
+    f.t = glm::cross(normal, f.s);
+    return f;
+  };
+  if (normal_map) {
+    // Mitsuba: n' = the texture's raw RGB mapped from [0, 1] to [-1, 1], in the tangent frame of the shading normal.
+    const Vec3 local = 2.0f * normal_map->eval(p.uv) - 1.0f;
+    const float l = glm::length(local);
+    if (l > 0) n = glm::normalize(tangent_frame(n).to_world(local / l));
+  }
+  p.frame = normal_map || bsdf.anisotropic() ? tangent_frame(n) : scene::Frame(n);
   return p;
 }
 
 Rgb emitted(const scene::Scene& scene, const SurfacePoint& p, const Vec3& wo) {
   const scene::Shape& s = scene.shapes[p.shape];
   if (!s.is_emitter() || glm::dot(p.frame.n, wo) <= 0) return Rgb(0.0f);
-  return s.radiance;
+  return s.radiance_texture ? s.radiance_texture->eval(p.uv) : s.radiance;
 }
 
 }  // namespace clr::geometry

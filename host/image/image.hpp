@@ -34,6 +34,10 @@ void write_exr(const std::filesystem::path& path, const Image& img);
 void write_png(const std::filesystem::path& path, const Image& img, float exposure = 0.0f);
 // 8-bit image files (png/jpg/...) as linear or sRGB-decoded floats, for textures.
 Image read_ldr(const std::filesystem::path& path, bool srgb_to_linear);
+// Radiance RGBE (.hdr) files, linear floats; and whichever of the HDR formats a file name's extension says
+// (.hdr, else OpenEXR).
+Image read_hdr(const std::filesystem::path& path);
+Image read_float_image(const std::filesystem::path& path);
 
 // Averages factor×factor blocks; width and height must be multiples of factor.
 Image box_downsample(const Image& img, int factor);

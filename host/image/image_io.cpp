@@ -101,6 +101,26 @@ void write_png(const fs::path& path, const Image& img, float exposure) {
   });
 }
 
+Image read_hdr(const fs::path& path) {
+  if (!fs::exists(path)) throw InputError("image file not found: " + path.string());
+  if (!fs::is_regular_file(path)) throw InputError("image file is not a regular file: " + path.string());
+  int w = 0, h = 0, n = 0;
+  if (!stbi_info(path.c_str(), &w, &h, &n) || !stbi_is_hdr(path.c_str()))
+    throw InputError("cannot read Radiance HDR image " + path.string());
+  check_image_size(w, h, "image " + path.string());
+  std::unique_ptr<float, void (*)(void*)> data(stbi_loadf(path.c_str(), &w, &h, &n, 3), stbi_image_free);
+  if (!data) throw InputError("cannot read image " + path.string() + ": " + stbi_failure_reason());
+  Image img(w, h);
+  std::copy_n(data.get(), img.rgb.size(), img.rgb.begin());
+  return img;
+}
+
+Image read_float_image(const fs::path& path) {
+  auto ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext == ".hdr" ? read_hdr(path) : read_exr(path);
+}
+
 Image read_ldr(const fs::path& path, bool srgb) {
   if (!fs::exists(path)) throw InputError("image file not found: " + path.string());
   if (!fs::is_regular_file(path)) throw InputError("image file is not a regular file: " + path.string());

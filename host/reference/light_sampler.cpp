@@ -30,9 +30,14 @@ LightSampler::LightSampler(const scene::Scene& scene)
     prim_.clear();
     area_.clear();
   }
-  // With both kinds of light, half the samples go to the environment: its power is not comparable to the
-  // triangles' (it has no area), and an even split never starves either.
-  if (scene.environment) environment_probability_ = cdf_.empty() ? 1.0f : 0.5f;
+  // Each kind of light gets an equal share: the environment's power is not comparable to the triangles' (it has
+  // no area), nor a point light's, and an even split never starves any.
+  const std::size_t shares = (cdf_.empty() ? 0 : 1) + (scene.environment ? 1 : 0) + scene.delta_lights.size();
+  if (shares == 0) return;
+  const float share = 1.0f / float(shares);
+  if (scene.environment) environment_probability_ = share;
+  if (!cdf_.empty()) area_probability_ = share;
+  delta_probability_ = share;
 }
 
 LightSample LightSampler::sample(const Vec3& from, Pcg32& rng) const {
@@ -46,6 +51,20 @@ LightSample LightSampler::sample(const Vec3& from, Pcg32& rng) const {
     ls.radiance = s.radiance;
     ls.pdf = s.pdf * environment_probability_;
     ls.environment = true;
+    return ls;
+  }
+  if (u_select >= environment_probability_ + area_probability_) {
+    const auto& lights = scene_->delta_lights;
+    const auto i = std::min(std::size_t((u_select - environment_probability_ - area_probability_) / delta_probability_),
+                            lights.size() - 1);
+    const auto a = lights[i].arrive(from);
+    ls.direction = a.direction;
+    ls.distance = a.distance;
+    ls.point = from + a.direction * a.distance;
+    ls.radiance = a.radiance;
+    ls.pdf = delta_probability_;
+    ls.environment = std::isinf(a.distance);
+    ls.delta = true;
     return ls;
   }
   const double target = double(rng.next_float()) * total_;
@@ -63,7 +82,7 @@ LightSample LightSampler::sample(const Vec3& from, Pcg32& rng) const {
   ls.radiance = geometry::emitted(*scene_, p, -ls.direction);
   const float cos_light = std::fabs(glm::dot(p.geometric_normal, ls.direction));
   if (!(cos_light > 0)) return ls;
-  const float select = float((cdf_[k] - (k ? cdf_[k - 1] : 0.0)) / total_) * (1.0f - environment_probability_);
+  const float select = float((cdf_[k] - (k ? cdf_[k - 1] : 0.0)) / total_) * area_probability_;
   ls.pdf = select / area_[k] * dist2 / cos_light;
   return ls;
 }
@@ -76,7 +95,7 @@ float LightSampler::pdf_triangle(const geometry::SurfacePoint& p, const Vec3& fr
   const float dist2 = glm::dot(d, d);
   const float cos_light = std::fabs(glm::dot(p.geometric_normal, d)) / std::sqrt(dist2);
   if (!(cos_light > 0)) return 0.0f;
-  const float select = float((cdf_[k] - (k ? cdf_[k - 1] : 0.0)) / total_) * (1.0f - environment_probability_);
+  const float select = float((cdf_[k] - (k ? cdf_[k - 1] : 0.0)) / total_) * area_probability_;
   return select / area_[k] * dist2 / cos_light;
 }
 

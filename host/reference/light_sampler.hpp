@@ -1,7 +1,8 @@
 #pragma once
-// Next-event estimation's choice of a light: an emitting triangle with probability proportional to its power
-// (area × luminance of radiance), or the environment. Also gives the density of hitting a light by chance, for
-// multiple importance sampling.
+// Next-event estimation's choice of a light: the emitting triangles (one among them with probability proportional
+// to its power, area × luminance of radiance), the environment and each delta light (point, spot, directional,
+// projector) take equal shares. Also gives the density of hitting a light by chance, for multiple importance
+// sampling.
 #include <vector>
 
 #include "common/pcg32.hpp"
@@ -18,14 +19,15 @@ struct LightSample {
   Vec3 point;      // on the light (unused for the environment)
   Vec3 light_normal;
   Rgb radiance;
-  float pdf;  // solid angle at the shading point, selection included; 0: no contribution
+  float pdf;  // solid angle at the shading point, selection included; 0: no contribution. Delta: the selection's
   bool environment;
+  bool delta;  // a point, spot, directional or projector light: no MIS (no ray hits it)
 };
 
 class LightSampler {
  public:
   explicit LightSampler(const scene::Scene& scene);
-  bool empty() const { return cdf_.empty() && !scene_->environment; }
+  bool empty() const { return cdf_.empty() && !scene_->environment && scene_->delta_lights.empty(); }
   LightSample sample(const Vec3& from, Pcg32& rng) const;
   // Solid-angle density of sample() producing the triangle point `p` seen from `from` (the hit distance t).
   float pdf_triangle(const geometry::SurfacePoint& p, const Vec3& from) const;
@@ -33,7 +35,7 @@ class LightSampler {
 
  private:
   const scene::Scene* scene_;
-  float environment_probability_ = 0;
+  float environment_probability_ = 0, area_probability_ = 0, delta_probability_ = 0;  // the last per light
   std::vector<std::uint32_t> shape_, prim_;
   std::vector<double> cdf_;         // cumulative power
   std::vector<float> area_;         // per light triangle

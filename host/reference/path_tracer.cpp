@@ -81,7 +81,10 @@ class PathTracer {
     const Rgb f = bsdf.eval(wo, ls.direction);
     if (scene::is_black(f)) return Rgb(0.0f);
     geometry::Ray shadow{sp.spawn_origin(ls.direction), 0.0f, ls.direction, ls.distance};
-    if (!ls.environment) {
+    if (ls.delta && !ls.environment) {
+      shadow.direction = ls.point - shadow.origin;  // up to the light's position, where nothing can be hit
+      shadow.tfar = 1.0f;
+    } else if (!ls.environment) {
       // Stop short of the light's surface by the same relative margin the origin was pushed off its own.
       const Vec3 target = ls.point + ls.light_normal * (glm::dot(ls.light_normal, -ls.direction) > 0 ? 1.0f : -1.0f) *
                                          2e-5f * std::fmax(1.0f, scene::max_component(glm::abs(ls.point)));
@@ -90,7 +93,7 @@ class PathTracer {
     }
     ++rays;
     if (g_.occluded(shadow)) return Rgb(0.0f);
-    const float w = power_heuristic(ls.pdf, bsdf.pdf(wo, ls.direction));
+    const float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo, ls.direction));
     return f * ls.radiance * (w / ls.pdf);
   }
 
@@ -127,8 +130,11 @@ image::Image render(const geometry::Geometry& geometry, const RenderOptions& opt
         glm::dvec3 sum(0.0);
         for (int s = 0; s < options.spp; ++s) {
           const float px = float(x) + rng.next_float(), py = float(y) + rng.next_float();
-          const auto cr = camera.ray(px, py);
-          const Rgb L = tracer.radiance({cr.origin, cr.tnear, cr.direction}, rng, local_rays);
+          // A thin lens draws its aperture point; pinholes draw nothing more (their streams stay as they were).
+          const scene::Vec2 lens =
+              camera.aperture_radius > 0 ? scene::Vec2(rng.next_float(), rng.next_float()) : scene::Vec2(0.5f);
+          const auto cr = camera.ray(px, py, lens);
+          const Rgb L = tracer.radiance({cr.origin, cr.tnear, cr.direction, cr.tfar}, rng, local_rays);
           if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z))
             sum += glm::dvec3(L);
           else

@@ -49,6 +49,10 @@ class Bsdf {
   // Geometry-level wrappers (Mitsuba's mask and bumpmap) expose their textures; wrappers of wrappers forward.
   virtual const Texture* opacity() const { return nullptr; }
   virtual const BumpMap* bump() const { return nullptr; }
+  // Mitsuba's `normalmap`: the shading normal in the tangent frame (dp/du, n × dp/du, n), as raw RGB in [0, 1].
+  virtual const Texture* normal_map() const { return nullptr; }
+  // An anisotropic lobe, oriented along dp/du like Mitsuba's (so the shading frame must follow the uv map).
+  virtual bool anisotropic() const { return false; }
 };
 
 // Evaluation of a BSDF at a world-space point: the frame it was hit with plus its uv. The trainer's view.

@@ -1,6 +1,8 @@
 #pragma once
-// Mitsuba's `perspective` sensor: a pinhole looking down +z of its to_world frame, +y up and +x to the image's
-// left (Mitsuba's convention), with the field of view measured along `fov_axis`.
+// Mitsuba's projective sensors, looking down +z of their to_world frame, +y up and +x to the image's left
+// (Mitsuba's convention): `perspective` (a pinhole, the field of view measured along `fov_axis`), `thinlens` (the
+// same with a circular aperture focused at `focus_distance`) and `orthographic` (parallel rays through the
+// to_world image of [-1, 1] × [-h/w, h/w]).
 #include <string>
 
 #include "scene/frame.hpp"
@@ -9,18 +11,23 @@ namespace clr::scene {
 
 struct Camera {
   enum class FovAxis { x, y, diagonal, smaller, larger };
+  enum class Projection { perspective, orthographic };
+  Projection projection = Projection::perspective;
+  float aperture_radius = 0;  // > 0: a thin lens
+  float focus_distance = 0;   // thin lens: the depth (along +z) that is sharp
   glm::mat4 to_world{1.0f};
   float fov_degrees = 45.0f;
   FovAxis fov_axis = FovAxis::x;
-  float near_clip = 1e-2f;
+  float near_clip = 1e-2f, far_clip = 1e4f;  // distances along the view axis (Mitsuba's defaults)
   int width = 768, height = 576;
 
   struct Ray {
     Vec3 origin, direction;  // direction is unit length
-    float tnear;             // the near clip plane, as a distance along the ray
+    float tnear, tfar;       // the near and far clip planes, as distances along the ray
   };
-  // (px, py) in pixel units: (0, 0) the top-left corner of the image, (width, height) the bottom-right.
-  Ray ray(float px, float py) const;
+  // (px, py) in pixel units: (0, 0) the top-left corner of the image, (width, height) the bottom-right. `lens`
+  // in [0, 1)² chooses the point on a thin lens' aperture (its centre at (0.5, 0.5)); pinholes ignore it.
+  Ray ray(float px, float py, const Vec2& lens = Vec2(0.5f)) const;
   // Half-extents of the image plane at distance 1.
   Vec2 tan_half_fov() const;
   // The same camera with a film of another size (0 keeps the scene's): as in Mitsuba and Tungsten, the film defines

@@ -20,6 +20,9 @@ struct Mesh {
   void flip();
   // Angle-weighted vertex normals from the faces (Mitsuba's choice for meshes that come without normals).
   void compute_vertex_normals();
+  // Mitsuba 0.x's max_smooth_angle: smooth normals only across edges whose faces meet within the angle (degrees);
+  // sharper edges stay creases. Every triangle corner becomes its own vertex.
+  void compute_crease_normals(float max_angle_degrees);
   // InputError (prefixed with `what`) for non-finite data, indices out of range, or no triangles.
   void validate(const std::string& what) const;
   double area() const;

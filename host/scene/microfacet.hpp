@@ -1,6 +1,7 @@
 #pragma once
-// Isotropic microfacet distributions (Walter et al. 2007) with the separable Smith shadowing term. Normals are
-// sampled from D(m)·cos θm, so pdf_m(m) = D(m)·cos θm for both distributions.
+// Microfacet distributions (Walter et al. 2007), isotropic or anisotropic (roughness alpha along the shading
+// frame's x, alpha_v along its y), with the separable Smith shadowing term. Normals are sampled from D(m)·cos θm
+// by stretching the slopes of the unit-roughness distribution (Heitz 2014), so pdf_m(m) = D(m)·cos θm for both.
 #include <cmath>
 
 #include "scene/frame.hpp"
@@ -10,26 +11,32 @@ namespace clr::scene {
 struct Microfacet {
   enum class Type { beckmann, ggx };
   Type type = Type::beckmann;
-  float alpha = 0.1f;
+  float alpha = 0.1f;    // along x (Mitsuba's alpha_u, or alpha)
+  float alpha_v = 0.0f;  // along y; 0: the same as alpha (isotropic)
+
+  float av() const { return alpha_v > 0 ? alpha_v : alpha; }
+  // One roughness for what needs a single number (the network's input): the geometric mean.
+  float mean_alpha() const { return std::sqrt(alpha * av()); }
+  bool anisotropic() const { return alpha_v > 0 && alpha_v != alpha; }
 
   float D(const Vec3& m) const {
     if (m.z <= 0) return 0.0f;
-    const float c2 = m.z * m.z, a2 = alpha * alpha;
-    if (type == Type::beckmann) {
-      const float tan2 = (1.0f - c2) / c2;
-      return std::exp(-tan2 / a2) / (kPi * a2 * c2 * c2);
-    }
-    const float d = c2 * (a2 - 1.0f) + 1.0f;
-    return a2 / (kPi * d * d);
+    const float ax = alpha, ay = av(), c2 = m.z * m.z;
+    // tan² θm stretched by the roughness along each axis.
+    const float t2 = (m.x * m.x / (ax * ax) + m.y * m.y / (ay * ay)) / c2;
+    if (type == Type::beckmann) return std::exp(-t2) / (kPi * ax * ay * c2 * c2);
+    const float d = c2 * (1.0f + t2);
+    return 1.0f / (kPi * ax * ay * d * d);
   }
 
-  // Smith's Λ for the direction w (its tan θ), exact for both distributions.
+  // Smith's Λ for the direction w: the roughness along w's azimuth times its tan θ.
   float lambda(const Vec3& w) const {
     const float c2 = w.z * w.z;
-    const float tan2 = std::fmax(0.0f, 1.0f - c2) / c2;
-    if (tan2 == 0.0f) return 0.0f;
-    if (type == Type::ggx) return 0.5f * (std::sqrt(1.0f + alpha * alpha * tan2) - 1.0f);
-    const float a = 1.0f / (alpha * std::sqrt(tan2));
+    const float ax = alpha, ay = av();
+    const float a2t2 = (w.x * w.x * ax * ax + w.y * w.y * ay * ay) / c2;  // α(φ)² tan² θ
+    if (!(a2t2 > 0)) return 0.0f;
+    if (type == Type::ggx) return 0.5f * (std::sqrt(1.0f + a2t2) - 1.0f);
+    const float a = 1.0f / std::sqrt(a2t2);
     return 0.5f * (std::erf(a) - 1.0f) + std::exp(-a * a) / (2.0f * a * std::sqrt(kPi));
   }
   // Zero when w sees the back of the microfacet (w·m and w·n of different signs).
@@ -40,11 +47,10 @@ struct Microfacet {
   float G(const Vec3& wo, const Vec3& wi, const Vec3& m) const { return G1(wo, m) * G1(wi, m); }
 
   Vec3 sample_m(const Vec2& u) const {
-    const float tan2 = type == Type::beckmann ? -alpha * alpha * std::log1p(-u.x)
-                                              : alpha * alpha * u.x / std::fmax(1.0f - u.x, 1e-12f);
-    const float cos_t = 1.0f / std::sqrt(1.0f + tan2), sin_t = std::sqrt(std::fmax(0.0f, 1.0f - cos_t * cos_t));
-    const float phi = 2.0f * kPi * u.y;
-    return {sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t};
+    // tan θ of the unit-roughness distribution, then its slope stretched by (alpha, alpha_v).
+    const float tan2 = type == Type::beckmann ? -std::log1p(-u.x) : u.x / std::fmax(1.0f - u.x, 1e-12f);
+    const float t = std::sqrt(tan2), phi = 2.0f * kPi * u.y;
+    return glm::normalize(Vec3(alpha * t * std::cos(phi), av() * t * std::sin(phi), 1.0f));
   }
   float pdf_m(const Vec3& m) const { return D(m) * m.z; }
 };

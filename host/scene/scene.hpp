@@ -4,11 +4,13 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "scene/bsdf.hpp"
 #include "scene/camera.hpp"
+#include "scene/delta_light.hpp"
 #include "scene/environment.hpp"
 #include "scene/mesh.hpp"
 
@@ -19,6 +21,8 @@ struct Shape {
   Mesh mesh;
   int material = 0;    // index into Scene::materials
   Rgb radiance{0.0f};  // area emitter (emits on the side its shading normal faces); black: none
+  // A textured area emitter's radiance over the surface's uv; `radiance` then holds its mean.
+  std::optional<Texture> radiance_texture;
   bool is_emitter() const { return !is_black(radiance); }
 };
 
@@ -27,6 +31,7 @@ struct Scene {
   // Distinct BSDFs; a shape's material id indexes this list (what the trainer reports as "material id").
   std::vector<std::shared_ptr<const Bsdf>> materials;
   std::unique_ptr<Environment> environment;  // null: black background
+  std::vector<DeltaLight> delta_lights;      // point, spot, directional, projector
   Camera camera;
   // The scene's integrator max_depth (longest path in segments, Mitsuba's convention); -1: unbounded.
   int max_depth = -1;
@@ -44,5 +49,8 @@ Scene load_scene(const std::filesystem::path& path, const std::map<std::string, 
 // render from (training needs none).
 void require_emitter(const Scene& scene, const std::filesystem::path& path);
 void require_sensor(const Scene& scene, const std::filesystem::path& path);
+// Training (and what measures a trained model) sees light through emitting surfaces and the environment; lights
+// that only next-event estimation reaches (point, spot, directional, projector) are refused until it does.
+void require_trainable(const Scene& scene, const std::filesystem::path& path);
 
 }  // namespace clr::scene

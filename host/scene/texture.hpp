@@ -11,15 +11,18 @@ namespace clr::scene {
 
 // Texels in linear RGB, row 0 at v = 0 (Mitsuba's convention: mesh loaders flip v so that images appear upright).
 struct Bitmap {
+  // Texel addressing outside [0, 1)² (Mitsuba's wrap_mode).
+  enum class Wrap { repeat, mirror, clamp };
   int width = 0, height = 0;
   std::vector<Rgb> texels;
   Rgb mean{0.0f};
 
-  // png/jpg (8-bit; sRGB-decoded unless `raw`) or exr (linear). InputError naming the file on failure.
-  static std::shared_ptr<const Bitmap> load(const std::filesystem::path& path, bool raw);
-  Rgb texel(int x, int y) const;       // wraps around (repeat)
-  Rgb bilinear(const Vec2& uv) const;  // repeat addressing, texel centres at half-integers
-  Rgb nearest(const Vec2& uv) const;
+  // png/jpg/bmp (8-bit; sRGB-decoded unless `raw`, or decoded as value^gamma when `gamma` > 0, Mitsuba 0.x's
+  // override) or exr/hdr (linear). InputError naming the file on failure.
+  static std::shared_ptr<const Bitmap> load(const std::filesystem::path& path, bool raw, float gamma = 0);
+  Rgb texel(int x, int y, Wrap wrap = Wrap::repeat) const;
+  Rgb bilinear(const Vec2& uv, Wrap wrap = Wrap::repeat) const;  // texel centres at half-integers
+  Rgb nearest(const Vec2& uv, Wrap wrap = Wrap::repeat) const;
 };
 
 // 2-D affine map applied to uv before lookup (Mitsuba's `to_uv`): uv' = linear · uv + offset.
@@ -34,7 +37,8 @@ class Texture {
   enum class Kind { constant, bitmap, checkerboard };
 
   Texture(const Rgb& value = Rgb(0.0f)) : kind_(Kind::constant), c0_(value) {}  // NOLINT: a colour is a texture
-  static Texture bitmap(std::shared_ptr<const Bitmap> bitmap, const UvTransform& to_uv, bool bilinear);
+  static Texture bitmap(std::shared_ptr<const Bitmap> bitmap, const UvTransform& to_uv, bool bilinear,
+                        Bitmap::Wrap wrap = Bitmap::Wrap::repeat);
   static Texture checkerboard(const Rgb& color0, const Rgb& color1, const UvTransform& to_uv);
 
   Rgb eval(const Vec2& uv) const {
@@ -46,6 +50,10 @@ class Texture {
   // Average over the texture (exact for constants and checkerboards, texel mean for bitmaps): used where a single
   // colour is needed, e.g. for lobe-selection weights.
   Rgb mean() const;
+  // Texels along u and v: a bitmap's size, (1, 1) for the others (Mitsuba's `resolution`).
+  glm::ivec2 resolution() const {
+    return kind_ == Kind::bitmap ? glm::ivec2(bitmap_->width, bitmap_->height) : glm::ivec2(1);
+  }
 
  private:
   Rgb eval_varying(const Vec2& uv) const;
@@ -55,6 +63,7 @@ class Texture {
   std::shared_ptr<const Bitmap> bitmap_;
   UvTransform to_uv_;
   bool bilinear_ = true;
+  Bitmap::Wrap wrap_ = Bitmap::Wrap::repeat;
 };
 
 }  // namespace clr::scene

@@ -35,6 +35,7 @@ struct Case {
 void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
 Microfacet mf(Microfacet::Type t, float alpha) { return {t, alpha}; }
+Microfacet mf(Microfacet::Type t, float alpha_u, float alpha_v) { return {t, alpha_u, alpha_v}; }
 constexpr auto kBeckmann = Microfacet::Type::beckmann;
 constexpr auto kGgx = Microfacet::Type::ggx;
 const scene::ComplexIor kGold = *scene::conductor_ior("Au");
@@ -49,6 +50,9 @@ std::vector<Case> cases() {
       return std::make_shared<scene::Plastic>(1.5f, Rgb(0.6f, 0.3f, 0.2f), Rgb(1.0f), nonlinear, m);
     };
   };
+  auto pplastic = [](Microfacet m) {
+    return [m] { return std::make_shared<scene::PolarizedPlastic>(1.49f, Rgb(0.05f, 0.3f, 0.6f), std::nullopt, m); };
+  };
   auto rough_glass = [](Microfacet m) {
     return [m] {
       return std::make_shared<scene::Dielectric>(scene::Dielectric::Kind::rough, 1.5f, Rgb(1.0f), Rgb(1.0f), m);
@@ -56,18 +60,37 @@ std::vector<Case> cases() {
   };
   return {
       {"diffuse", diffuse, 30},
+      {"roughdiffuse_full",
+       [] { return std::make_shared<scene::RoughDiffuse>(Rgb(0.8f, 0.5f, 0.2f), Rgb(0.5f), false); }, 50},
+      {"roughdiffuse_fast", [] { return std::make_shared<scene::RoughDiffuse>(Rgb(0.8f), Rgb(0.3f), true); }, 20},
+      {"phong_30", [] { return std::make_shared<scene::Phong>(Rgb(0.5f), Rgb(0.2f), 30.0f); }, 35},
+      {"phong_5_grazing", [] { return std::make_shared<scene::Phong>(Rgb(0.3f, 0.2f, 0.1f), Rgb(0.6f), 5.0f); }, 70},
+      {"ward_balanced_anisotropic",
+       [] { return std::make_shared<scene::Ward>(scene::Ward::Variant::balanced, Rgb(0.4f), Rgb(0.3f), 0.1f, 0.3f); },
+       40},
+      {"ward_duer",
+       [] { return std::make_shared<scene::Ward>(scene::Ward::Variant::ward_duer, Rgb(0.3f), Rgb(0.2f), 0.2f, 0.2f); },
+       30},
       {"twosided_diffuse_back", [=] { return std::make_shared<scene::TwoSided>(diffuse(), diffuse()); }, 130},
       {"roughconductor_beckmann_0_2", conductor(mf(kBeckmann, 0.2f)), 30},
       {"roughconductor_beckmann_0_5_grazing", conductor(mf(kBeckmann, 0.5f)), 75},
       {"roughconductor_ggx_0_2", conductor(mf(kGgx, 0.2f)), 30},
       {"roughconductor_ggx_0_5_grazing", conductor(mf(kGgx, 0.5f)), 75},
+      {"roughconductor_beckmann_anisotropic", conductor(mf(kBeckmann, 0.1f, 0.4f)), 40},
+      {"roughconductor_ggx_anisotropic_grazing", conductor(mf(kGgx, 0.5f, 0.15f)), 70},
       {"plastic", plastic(std::nullopt, false), 40},
       {"plastic_nonlinear", plastic(std::nullopt, true), 70},
       {"roughplastic_ggx_0_3", plastic(mf(kGgx, 0.3f), false), 40},
       {"roughplastic_beckmann_0_2", plastic(mf(kBeckmann, 0.2f), true), 60},
+      {"pplastic_beckmann_0_1", pplastic(mf(kBeckmann, 0.1f)), 40},
+      {"pplastic_ggx_0_4_grazing", pplastic(mf(kGgx, 0.4f)), 75},
+      {"blend_diffuse_roughconductor",
+       [=] { return std::make_shared<scene::BlendBsdf>(Rgb(0.3f), diffuse(), conductor(mf(kGgx, 0.15f))()); }, 45},
       {"roughdielectric_ggx_outside", rough_glass(mf(kGgx, 0.3f)), 35},
       {"roughdielectric_ggx_inside", rough_glass(mf(kGgx, 0.3f)), 160, 1.5f * 1.5f},
       {"roughdielectric_beckmann_outside", rough_glass(mf(kBeckmann, 0.4f)), 60},
+      {"roughdielectric_ggx_anisotropic_inside", rough_glass(mf(kGgx, 0.1f, 0.35f)), 150, 1.5f * 1.5f},
+      {"pplastic_ggx_anisotropic", pplastic(mf(kGgx, 0.3f, 0.08f)), 50},
       {"roughdielectric_beckmann_inside", rough_glass(mf(kBeckmann, 0.2f)), 170, 1.5f * 1.5f},
   };
 }
@@ -218,6 +241,19 @@ TEST(TwoSided, BackSideMirrorsFront) {
   EXPECT_NEAR(two.eval(Vec2(0), wo_b, wi_b).x, 0.25f / scene::kPi * wi.z, 1e-6f);
   EXPECT_EQ(two.eval(Vec2(0), wo_b, wi).x, 0.0f);                          // no transmission
   EXPECT_EQ(scene::Diffuse(Rgb(0.5f)).eval(Vec2(0), wo_b, wi_b).x, 0.0f);  // one-sided without the wrapper
+}
+
+TEST(RoughDiffuse, LambertianWhenSmoothAndReciprocal) {
+  const scene::RoughDiffuse smooth(Rgb(0.6f), Rgb(0.0f), false), rough(Rgb(0.6f), Rgb(0.7f), false),
+      fast(Rgb(0.6f), Rgb(0.7f), true);
+  for (const float to : {10.0f, 50.0f, 80.0f})
+    for (const float ti : {5.0f, 40.0f, 85.0f}) {
+      const Vec3 wo = direction(to, 20.0f), wi = direction(ti, 140.0f);
+      EXPECT_NEAR(smooth.eval(Vec2(0), wo, wi).x, 0.6f * scene::kInvPi * wi.z, 1e-6f);  // σ = 0: Lambert
+      for (const scene::RoughDiffuse* b : {&rough, &fast})
+        EXPECT_NEAR(b->eval(Vec2(0), wo, wi).x / wi.z, b->eval(Vec2(0), wi, wo).x / wo.z,
+                    1e-5f);  // f(wo, wi) = f(wi, wo)
+    }
 }
 
 }  // namespace

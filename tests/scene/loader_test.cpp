@@ -11,7 +11,7 @@
 #include "scene/bsdfs.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_files.hpp"
-#include "scene/xml_source.hpp"
+#include "scene/xml/xml_source.hpp"
 
 namespace clr::test {
 namespace {
@@ -75,8 +75,8 @@ TEST_F(Loader, ColourTags) {
   EXPECT_FLOAT_EQ(s.bsdf(s.shapes[1]).albedo(Vec2(0)).y, 0.3f);
   expect_vec(s.bsdf(s.shapes[2]).albedo(Vec2(0)), Vec3(0.1f, 0.2f, 0.3f));  // spaces separate like commas
   EXPECT_THROW(scene::load_scene(scene(R"(<shape type="rectangle"><bsdf type="diffuse">
-    <spectrum name="reflectance" value="400:0.1, 700:0.2"/></bsdf></shape>)")),
-               InputError);
+    <spectrum name="reflectance" value="400:0.1, 300:0.2"/></bsdf></shape>)")),
+               InputError);  // wavelengths must increase
 }
 
 TEST_F(Loader, IncludesShareIdsAndResolvePathsFromTheirOwnFile) {

@@ -1,0 +1,55 @@
+// Mitsuba's `blendbsdf`: a linear blend of two BSDFs, sampled by choosing one with the blend's probability.
+#include "scene/bsdfs.hpp"
+#include "scene/loader/plugin.hpp"
+
+namespace clr::scene {
+
+Rgb BlendBsdf::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+  const float w = weight(uv);
+  return (1.0f - w) * a_->eval(uv, wo, wi) + w * b_->eval(uv, wo, wi);
+}
+
+float BlendBsdf::pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+  const float w = weight(uv);
+  return (1.0f - w) * a_->pdf(uv, wo, wi) + w * b_->pdf(uv, wo, wi);
+}
+
+std::optional<BsdfSample> BlendBsdf::sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const {
+  const float w = weight(uv);
+  const bool second = u_lobe < w;
+  // The lobe variable, reused for the chosen BSDF's own choice.
+  const float u_rest = second ? u_lobe / w : (u_lobe - w) / (1.0f - w);
+  auto s = (second ? b_ : a_)->sample(uv, wo, std::fmin(u_rest, 0x1.fffffep-1f), u);
+  if (!s) return std::nullopt;
+  if (s->delta) {
+    // A delta lobe of one BSDF: chosen with the blend's probability times its own, valued at the blend's factor.
+    s->pdf *= second ? w : 1.0f - w;
+    return s;
+  }
+  const float p = pdf(uv, wo, s->wi);
+  if (!(p > 0)) return std::nullopt;
+  return BsdfSample{s->wi, eval(uv, wo, s->wi) / p, p, false};
+}
+
+Rgb BlendBsdf::albedo(const Vec2& uv) const {
+  const float w = weight(uv);
+  return (1.0f - w) * a_->albedo(uv) + w * b_->albedo(uv);
+}
+
+float BlendBsdf::roughness() const {
+  const float w = std::clamp(weight_.mean().x, 0.0f, 1.0f);
+  return (1.0f - w) * a_->roughness() + w * b_->roughness();
+}
+
+}  // namespace clr::scene
+
+namespace clr::scene::loader {
+std::shared_ptr<const Bsdf> read_blendbsdf(Context& ctx, const Props& p) {
+  const Texture weight = ctx.texture(p, "weight", Rgb(0.5f));
+  const Rgb mean = weight.mean();
+  if (!(mean.x >= 0 && mean.x <= 1)) p.node.fail("weight must lie in [0, 1]");
+  auto nested = ctx.nested_bsdfs(p);
+  if (nested.size() != 2) p.node.fail("blendbsdf expects exactly two nested BSDFs");
+  return std::make_shared<BlendBsdf>(weight, nested[0], nested[1]);
+}
+}  // namespace clr::scene::loader

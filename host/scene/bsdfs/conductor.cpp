@@ -1,0 +1,93 @@
+#include <cmath>
+
+#include "scene/bsdfs.hpp"
+#include "scene/bsdfs/bsdf_props.hpp"
+#include "scene/fresnel.hpp"
+#include "scene/named_ior.hpp"
+
+namespace clr::scene {
+
+Microfacet Conductor::microfacet(const Vec2& uv) const {
+  if (!textured_) return *mf_;
+  // Mitsuba clamps textured roughness away from 0 as well: below 1e-4 the lobe is numerically a delta.
+  Microfacet m = *mf_;
+  m.alpha = std::fmax(textured_->alpha_u.eval(uv).x, 1e-4f);
+  m.alpha_v = std::fmax(textured_->alpha_v.eval(uv).x, 1e-4f);
+  return m;
+}
+
+Rgb Conductor::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+  if (!mf_ || wo.z <= 0 || wi.z <= 0) return Rgb(0.0f);
+  const Microfacet mf = microfacet(uv);
+  const Vec3 m = glm::normalize(wo + wi);
+  const float d = mf.D(m);
+  if (d == 0.0f) return Rgb(0.0f);
+  const Rgb f = fresnel_conductor(glm::dot(wo, m), eta_, k_);
+  return specular_.eval(uv) * f * (d * mf.G(wo, wi, m) / (4.0f * wo.z));
+}
+
+float Conductor::pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+  if (!mf_ || wo.z <= 0 || wi.z <= 0) return 0.0f;
+  const Vec3 m = glm::normalize(wo + wi);
+  return microfacet(uv).pdf_m(m) / (4.0f * glm::dot(wo, m));
+}
+
+std::optional<BsdfSample> Conductor::sample(const Vec2& uv, const Vec3& wo, float, const Vec2& u) const {
+  if (wo.z <= 0) return std::nullopt;
+  if (!mf_) return BsdfSample{reflect_z(wo), specular_.eval(uv) * fresnel_conductor(wo.z, eta_, k_), 1.0f, true};
+  const Vec3 wi = reflect(wo, microfacet(uv).sample_m(u));
+  if (wi.z <= 0) return std::nullopt;
+  const float p = pdf(uv, wo, wi);
+  if (!(p > 0)) return std::nullopt;
+  return BsdfSample{wi, eval(uv, wo, wi) / p, p, false};
+}
+
+Rgb Conductor::albedo(const Vec2& uv) const { return specular_.eval(uv) * fresnel_conductor(1.0f, eta_, k_); }
+
+}  // namespace clr::scene
+
+namespace clr::scene::loader {
+// `conductor` and `roughconductor`.
+std::shared_ptr<const Bsdf> read_conductor(Context& ctx, const Props& p) {
+  ComplexIor c{Rgb(0.0f), Rgb(1.0f)};
+  if (p.has("eta") || p.has("k")) {
+    c = {p.color("eta", Rgb(0.0f)), p.color("k", Rgb(1.0f))};
+  } else {
+    const std::string m = p.string("material", "none");
+    const auto named = conductor_ior(m);
+    if (!named) p.expect("material", {"string"}).fail("unknown conductor material '" + m + "'");
+    c = *named;
+  }
+  const float ext = read_ior(p, "ext_eta", 1.0f);
+  const bool rough = p.type() == "roughconductor";
+  if (!rough) ignore_roughness(p);
+  // Textured roughness (roughconductor only, as in Mitsuba): alpha, or alpha_u and alpha_v, given as textures.
+  std::optional<Conductor::RoughnessTextures> textured;
+  auto is_texture = [&](const char* name) {
+    const auto it = p.named.find(name);
+    return it != p.named.end() && (it->second.tag() == "texture" || it->second.tag() == "ref");
+  };
+  if (rough && (is_texture("alpha") || is_texture("alpha_u") || is_texture("alpha_v"))) {
+    if (p.has("alpha") && (p.has("alpha_u") || p.has("alpha_v")))
+      p.node.fail("give either 'alpha' or 'alpha_u' and 'alpha_v', not both");
+    if (p.has("alpha")) {
+      const Texture a = ctx.texture(p, "alpha", Rgb(0.1f));
+      textured = Conductor::RoughnessTextures{a, a};
+    } else {
+      if (!p.has("alpha_u") || !p.has("alpha_v")) p.node.fail("give both 'alpha_u' and 'alpha_v'");
+      textured =
+          Conductor::RoughnessTextures{ctx.texture(p, "alpha_u", Rgb(0.1f)), ctx.texture(p, "alpha_v", Rgb(0.1f))};
+    }
+    if (!(textured->alpha_u.mean().x > 0 && textured->alpha_v.mean().x > 0)) p.node.fail("alpha must be positive");
+  }
+  std::optional<Microfacet> mf;
+  if (rough) mf = read_microfacet(p, textured.has_value());  // the distribution (and, untextured, the alphas)
+  if (textured) {
+    // The alphas' averages stand for the lobe where one number is needed (the network's roughness input).
+    mf->alpha = textured->alpha_u.mean().x;
+    mf->alpha_v = textured->alpha_v.mean().x;
+  }
+  return std::make_shared<Conductor>(c.eta / ext, c.k / ext, ctx.texture(p, "specular_reflectance", Rgb(1.0f)), mf,
+                                     textured);
+}
+}  // namespace clr::scene::loader

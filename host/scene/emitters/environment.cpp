@@ -1,0 +1,115 @@
+#include "scene/environment.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.hpp"
+#include "image/image.hpp"
+
+namespace clr::scene {
+namespace {
+// Index i with cdf[i] <= u < cdf[i+1] and the position of u within it.
+std::pair<int, float> sample_cdf(const float* cdf, int n, float u) {
+  const int i = std::clamp(int(std::upper_bound(cdf, cdf + n + 1, u) - cdf) - 1, 0, n - 1);
+  const float width = cdf[i + 1] - cdf[i];
+  return {i, width > 0 ? std::clamp((u - cdf[i]) / width, 0.0f, 1.0f) : 0.5f};
+}
+}  // namespace
+
+Environment Environment::constant(const Rgb& radiance) {
+  Environment e;
+  e.constant_ = radiance;
+  return e;
+}
+
+Environment Environment::envmap(const std::filesystem::path& path, float scale, const glm::mat4& to_world) {
+  if (!std::filesystem::exists(path)) throw InputError(path.string() + ": environment map not found");
+  const image::Image img = image::read_float_image(path);
+  Environment e;
+  e.width_ = img.width;
+  e.height_ = img.height;
+  e.to_world_ = glm::mat3(to_world);
+  e.to_local_ = glm::inverse(e.to_world_);
+  e.pixels_.resize(std::size_t(img.width) * std::size_t(img.height));
+  e.weights_.resize(e.pixels_.size());
+  double total = 0;
+  for (int y = 0; y < img.height; ++y) {
+    const float sin_theta = std::sin(kPi * (float(y) + 0.5f) / float(img.height));
+    for (int x = 0; x < img.width; ++x) {
+      const std::size_t i = std::size_t(y) * std::size_t(img.width) + std::size_t(x);
+      const Rgb c = scale * Rgb(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]);
+      if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
+        throw InputError(path.string() + ": environment map has non-finite pixels");
+      e.pixels_[i] = c;
+      e.weights_[i] = std::fmax(luminance(c), 0.0f) * sin_theta;
+      total += e.weights_[i];
+    }
+  }
+  if (!(total > 0)) throw InputError(path.string() + ": environment map is black");
+  const double mean = total / double(e.weights_.size());
+  for (auto& w : e.weights_) w = float(w / mean);
+  e.row_cdf_.assign(std::size_t(img.height) + 1, 0.0f);
+  e.column_cdf_.assign(std::size_t(img.height) * std::size_t(img.width + 1), 0.0f);
+  double rows = 0;
+  std::vector<double> row_sum(std::size_t(img.height), 0.0);
+  for (int y = 0; y < img.height; ++y) {
+    float* cdf = &e.column_cdf_[std::size_t(y) * std::size_t(img.width + 1)];
+    double s = 0;
+    for (int x = 0; x < img.width; ++x) {
+      s += e.weights_[std::size_t(y) * std::size_t(img.width) + std::size_t(x)];
+      cdf[x + 1] = float(s);
+    }
+    for (int x = 1; x <= img.width; ++x) cdf[x] = s > 0 ? float(cdf[x] / s) : float(x) / float(img.width);
+    rows += s;
+    row_sum[std::size_t(y)] = rows;
+  }
+  for (int y = 0; y < img.height; ++y) e.row_cdf_[std::size_t(y) + 1] = float(row_sum[std::size_t(y)] / rows);
+  e.row_cdf_.back() = 1.0f;
+  return e;
+}
+
+// Mitsuba's lat-long mapping: u = atan2(x, −z)/2π, v = acos(y)/π in the emitter's local frame, v = 0 the top row.
+Vec2 Environment::to_uv(const Vec3& d) const {
+  float u = std::atan2(d.x, -d.z) / (2.0f * kPi);
+  if (u < 0) u += 1.0f;
+  return {u, std::acos(std::clamp(d.y, -1.0f, 1.0f)) / kPi};
+}
+
+float Environment::pixel_pdf(int x, int y) const {
+  return weights_[std::size_t(y) * std::size_t(width_) + std::size_t(x)];  // mean-normalised: a density in uv
+}
+
+Rgb Environment::eval(const Vec3& dir) const {
+  if (width_ == 0) return constant_;
+  const Vec2 uv = to_uv(glm::normalize(to_local_ * dir));
+  const int x = std::min(int(uv.x * float(width_)), width_ - 1), y = std::min(int(uv.y * float(height_)), height_ - 1);
+  return pixels_[std::size_t(y) * std::size_t(width_) + std::size_t(x)];
+}
+
+Environment::Sample Environment::sample(const Vec2& u) const {
+  if (width_ == 0) {
+    const Vec3 d = sample_uniform_sphere(u);
+    return {d, constant_, kUniformSpherePdf};
+  }
+  const auto [y, fy] = sample_cdf(row_cdf_.data(), height_, u.y);
+  const auto [x, fx] = sample_cdf(&column_cdf_[std::size_t(y) * std::size_t(width_ + 1)], width_, u.x);
+  const float su = (float(x) + fx) / float(width_), sv = (float(y) + fy) / float(height_);
+  const float phi = 2.0f * kPi * su, theta = kPi * sv;
+  const float sin_theta = std::sin(theta);
+  const Vec3 local(std::sin(phi) * sin_theta, std::cos(theta), -std::cos(phi) * sin_theta);
+  const Vec3 d = glm::normalize(to_world_ * local);
+  const float pdf = sin_theta > 0 ? pixel_pdf(x, y) / (2.0f * kPi * kPi * sin_theta) : 0.0f;
+  return {d, pixels_[std::size_t(y) * std::size_t(width_) + std::size_t(x)], pdf};
+}
+
+float Environment::pdf(const Vec3& dir) const {
+  if (width_ == 0) return kUniformSpherePdf;
+  const Vec3 local = glm::normalize(to_local_ * dir);
+  const Vec2 uv = to_uv(local);
+  const float sin_theta = std::sqrt(std::fmax(0.0f, 1.0f - local.y * local.y));
+  if (!(sin_theta > 0)) return 0.0f;
+  const int x = std::min(int(uv.x * float(width_)), width_ - 1), y = std::min(int(uv.y * float(height_)), height_ - 1);
+  return pixel_pdf(x, y) / (2.0f * kPi * kPi * sin_theta);
+}
+
+}  // namespace clr::scene

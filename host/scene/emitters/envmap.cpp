@@ -1,0 +1,17 @@
+// Mitsuba's `envmap` emitter: a lat-long image around the scene.
+#include "common/error.hpp"
+#include "scene/loader/plugin.hpp"
+
+namespace clr::scene::loader {
+EmitterPlugin read_envmap(Context& ctx, const Props& p) {
+  const auto file = ctx.file(p, "filename", "environment map");
+  EmitterPlugin e;
+  try {
+    e.environment =
+        std::make_unique<Environment>(Environment::envmap(file, p.number("scale", 1.0f), p.transform("to_world")));
+  } catch (const InputError& err) {
+    p.node.fail(err.what());
+  }
+  return e;
+}
+}  // namespace clr::scene::loader

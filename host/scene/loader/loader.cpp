@@ -1,0 +1,494 @@
+// Mitsuba XML → Scene: the walk over the document. Plugins are built as their elements are met (document order),
+// each by the reader the registry names for its type (registry.cpp); ids are global across <include>d files, and
+// anything clradiosity does not model is refused with the element's file and line rather than silently rendered
+// wrong.
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <tuple>
+
+#include "common/error.hpp"
+#include "image/image.hpp"
+#include "scene/bsdfs.hpp"
+#include "scene/loader/plugin.hpp"
+#include "scene/scene.hpp"
+
+namespace clr::scene {
+namespace {
+
+using loader::Node;
+using loader::Props;
+
+class Loader final : public loader::Context {
+  static constexpr std::size_t kMaxFiles = 1024;
+
+ public:
+  explicit Loader(const std::map<std::string, std::string>& parameters) : params_(parameters) {}
+
+  Scene load(const std::filesystem::path& path) {
+    scene_folder_ = path.parent_path();
+    load_file(path, nullptr);
+    if (scene_.materials.empty()) scene_.materials.push_back(default_bsdf());
+    return std::move(scene_);
+  }
+
+  // ---- services to the plugin readers ---------------------------------------------------------------------------
+  std::filesystem::path file(const Props& p, const std::string& property, const std::string& what) override {
+    if (!p.has(property)) p.node.fail("missing property '" + property + "'");
+    const Node& n = p.expect(property, {"string"});
+    const auto f = resolve(n, n.attr("value"));
+    require_file(p.node, f, what);
+    return f;
+  }
+
+  Texture texture(const Props& p, const std::string& name, const Texture& fallback) override {
+    const Node* n = p.find(name);
+    if (!n) return fallback;
+    if (n->tag() == "texture" || n->tag() == "ref") return texture(*n);
+    return n->color();
+  }
+
+  Texture texture(const Node& n) override {
+    if (n.tag() == "ref") {
+      build_declared(n.attr("id"));
+      const auto it = textures_.find(n.attr("id"));
+      if (it == textures_.end()) n.fail("reference to unknown texture id '" + n.attr("id") + "'");
+      return it->second;
+    }
+    register_id(n, "texture");
+    const Props p(n);
+    const auto reader = loader::texture_reader(p.type());
+    if (!reader) n.fail("unsupported texture type '" + p.type() + "'");
+    const Texture t = reader(*this, p);
+    p.check_all_used();
+    if (n.has("id")) textures_[n.attr("id")] = t;
+    return t;
+  }
+
+  std::vector<std::shared_ptr<const Bsdf>> nested_bsdfs(const Props& p) override {
+    std::vector<std::shared_ptr<const Bsdf>> out;
+    for (const Node& o : p.objects) {
+      if (o.tag() == "bsdf")
+        out.push_back(bsdf(o));
+      else if (o.tag() == "ref")
+        out.push_back(bsdf_reference(o));
+      else if (o.tag() != "texture")
+        o.fail("unexpected inside a BSDF");
+    }
+    // A named reference to a BSDF (<ref name="bsdf" id=".."/>) nests it too; named textures are read by name.
+    for (const auto& [name, n] : p.named) {
+      if (n.tag() != "ref") continue;
+      build_declared(n.attr("id"));
+      if (bsdfs_.count(n.attr("id"))) out.push_back(bsdf_reference(*p.find(name)));
+    }
+    return out;
+  }
+
+  std::shared_ptr<const Bitmap> bitmap(const std::filesystem::path& file, bool raw, float gamma) override {
+    auto& cached = bitmaps_[{file.string(), raw, gamma}];
+    if (!cached) cached = Bitmap::load(file, raw, gamma);
+    return cached;
+  }
+
+ private:
+  void load_file(const std::filesystem::path& path, const Node* included_from) {
+    const auto canonical = std::filesystem::weakly_canonical(path);
+    if (!including_.insert(canonical).second) included_from->fail("recursive include of '" + path.string() + "'");
+    // Files that each include the next one twice are loaded 2^depth times without any recursion; every parsed
+    // file stays in memory (messages point into it). Real scenes include a handful.
+    if (included_from && sources_.size() >= kMaxFiles)
+      included_from->fail("more than " + std::to_string(kMaxFiles) + " files loaded through <include>");
+    std::unique_ptr<xml::Source> src;
+    try {
+      src = xml::parse_file(path);
+    } catch (const InputError& e) {
+      if (included_from) included_from->fail(e.what());
+      throw;
+    }
+    const Node root{src->doc.document_element(), src.get(), &params_};
+    if (root.xml.empty() || root.tag() != "scene")
+      throw InputError(path.string() + ":1: the root element must be <scene>");
+    const std::string version = root.attr("version");
+    int major = 0;
+    if (std::sscanf(version.c_str(), "%d.", &major) != 1 || major < 0 || major > 3)
+      root.fail("unsupported scene version '" + version + "' (0.5 to 3 are)");
+    src->version_major = major;
+    sources_.push_back(std::move(src));
+    // Mitsuba resolves references after reading the whole file, so a <ref> may name a plugin declared further
+    // down: such a plugin is built when first referenced, and skipped when the walk reaches it.
+    for (const Node& c : root.children())
+      if (c.has("id")) declared_.try_emplace(c.attr("id"), c);
+    process(root);
+    including_.erase(canonical);
+  }
+
+  // Files a scene names must be regular files: a device such as /dev/zero, or a FIFO, would be read forever.
+  static void require_file(const Node& n, const std::filesystem::path& f, const std::string& what) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(f, ec);
+    if (!std::filesystem::exists(status)) n.fail(what + " '" + f.string() + "' not found");
+    if (!std::filesystem::is_regular_file(status)) n.fail(what + " '" + f.string() + "' is not a regular file");
+  }
+
+  // Mitsuba's file resolver: a relative name is looked up in the folders of <path> elements (latest first) and the
+  // main scene's folder; the naming file's own folder comes first, so that included files may name their
+  // neighbours. The first candidate that exists wins; none: the naming file's folder (its message names it).
+  std::filesystem::path resolve(const Node& n, const std::string& file) const {
+    const std::filesystem::path p(file);
+    if (p.is_absolute()) return p;
+    const auto own = n.source->path.parent_path() / p;
+    std::error_code ec;
+    if (std::filesystem::exists(own, ec)) return own;
+    for (auto it = search_folders_.rbegin(); it != search_folders_.rend(); ++it)
+      if (std::filesystem::exists(*it / p, ec)) return *it / p;
+    if (std::filesystem::exists(scene_folder_ / p, ec)) return scene_folder_ / p;
+    return own;
+  }
+
+  void register_id(const Node& n, const std::string& kind) {
+    if (!n.has("id")) return;
+    if (!ids_.emplace(n.attr("id"), kind).second) n.fail("duplicate id '" + n.attr("id") + "'");
+  }
+
+  // Builds the top-level plugin `id` names if it is declared but not built yet (a forward reference).
+  void build_declared(const std::string& id) {
+    const auto it = declared_.find(id);
+    if (it == declared_.end() || !built_.insert(it->second.xml.internal_object()).second) return;
+    const Node n = it->second;
+    const std::string t = n.tag();
+    if (t == "bsdf")
+      bsdf(n);
+    else if (t == "texture")
+      texture(n);
+    else if (t == "emitter")
+      emitter(n);
+    else if (t == "shape")
+      shape(n);
+  }
+
+  void process(const Node& scene) {
+    for (const Node& c : scene.children()) {
+      const std::string t = c.tag();
+      if (c.has("id") && !built_.insert(c.xml.internal_object()).second) continue;  // built when referenced
+      if (t == "default") {
+        params_.try_emplace(c.attr("name"), c.attr("value"));
+      } else if (t == "include") {
+        const auto file = resolve(c, c.attr("filename"));
+        require_file(c, file, "included file");
+        load_file(file, &c);
+      } else if (t == "path") {
+        // Mitsuba's <path value="folder"/>: one more folder where file names are looked up.
+        const auto folder = resolve(c, c.attr("value"));
+        std::error_code ec;
+        // A folder that is not there can hold no file: the scene loads as long as no file is looked up in vain
+        // (real scenes ship without the shared folders they use nothing from).
+        if (std::filesystem::is_directory(folder, ec))
+          search_folders_.push_back(folder);
+        else
+          std::fprintf(stderr, "%s: warning: folder '%s' not found\n", c.where().c_str(), folder.string().c_str());
+      } else if (t == "bsdf") {
+        bsdf(c);
+      } else if (t == "texture") {
+        texture(c);
+      } else if (t == "shape") {
+        shape(c);
+      } else if (t == "emitter") {
+        emitter(c);
+      } else if (t == "sensor") {
+        sensor(c);
+      } else if (t == "integrator") {
+        integrator(c, true);
+      } else if (t == "sampler" || t == "rfilter" || t == "film") {
+        // Read and ignored, like the rest of the integrator.
+      } else if (const char* why = loader::refused_plugin(t, c.attr_or("type", ""))) {
+        c.fail(why);
+      } else {
+        c.fail("unsupported element");
+      }
+    }
+  }
+
+  // clradiosity's own integrators decide how to render; only the path length changes what the image converges to,
+  // so it becomes the reference's default (the scenes' reference renders were made with it). Integrators that
+  // need what clradiosity does not model (polarization) are refused.
+  void integrator(const Node& n, bool top) {
+    if (const char* why = loader::refused_plugin("integrator", n.attr_or("type", ""))) n.fail(why);
+    for (const Node& c : n.children())
+      if (c.tag() == "integrator") integrator(c, false);
+    if (!top) return;
+    for (const Node& c : n.children())
+      if (c.tag() == "integer" && c.attr("name") == "max_depth") {
+        const Props p(n);
+        scene_.max_depth = p.integer("max_depth", -1);
+      }
+  }
+
+  // ---- BSDFs ----------------------------------------------------------------------------------------------------
+  std::shared_ptr<const Bsdf> default_bsdf() {
+    if (!default_bsdf_) default_bsdf_ = std::make_shared<Diffuse>(Texture(Rgb(0.5f)));
+    return default_bsdf_;
+  }
+
+  std::shared_ptr<const Bsdf> bsdf_reference(const Node& ref) {
+    const std::string id = ref.attr("id");
+    build_declared(id);
+    const auto it = bsdfs_.find(id);
+    if (it != bsdfs_.end()) return it->second;
+    if (ids_.count(id)) ref.fail("id '" + id + "' does not name a BSDF");
+    ref.fail("reference to unknown id '" + id + "'");
+  }
+
+  std::shared_ptr<const Bsdf> bsdf(const Node& n) {
+    register_id(n, "bsdf");
+    const Props p(n);
+    const std::string type = p.type();
+    if (const char* why = loader::refused_plugin("bsdf", type)) n.fail(why);
+    const auto reader = loader::bsdf_reader(type);
+    if (!reader) n.fail("unsupported BSDF type '" + type + "'");
+    const auto b = reader(*this, p);
+    p.check_all_used();
+    if (n.has("id")) bsdfs_[n.attr("id")] = b;
+    return b;
+  }
+
+  int material_index(const std::shared_ptr<const Bsdf>& b) {
+    const auto [it, inserted] = material_ids_.try_emplace(b.get(), int(scene_.materials.size()));
+    if (inserted) scene_.materials.push_back(b);
+    return it->second;
+  }
+
+  // ---- shapes ---------------------------------------------------------------------------------------------------
+  void shape(const Node& n) {
+    const std::string type = n.attr_or("type", "");
+    if (type == "shapegroup") return shapegroup(n);
+    if (type == "instance") return instance(n);
+    scene_.shapes.push_back(build_shape(n));
+  }
+
+  // Mitsuba's `shapegroup`: shapes that are not rendered themselves, only through `instance`s of the group.
+  void shapegroup(const Node& n) {
+    register_id(n, "shapegroup");
+    if (!n.has("id")) n.fail("a shapegroup needs an id (instances refer to it)");
+    const Props p(n);
+    std::vector<Shape> group;
+    for (const Node& o : p.objects) {
+      if (o.tag() != "shape") o.fail("a shapegroup holds shapes only");
+      const std::string type = o.attr_or("type", "");
+      if (type == "shapegroup" || type == "instance") o.fail("shapegroups do not nest (as in Mitsuba)");
+      group.push_back(build_shape(o));
+      if (group.back().is_emitter()) o.fail("a shape in a shapegroup cannot emit (as in Mitsuba)");
+    }
+    p.check_all_used();
+    if (group.empty()) n.fail("the shapegroup holds no shape");
+    groups_[n.attr("id")] = std::move(group);
+  }
+
+  // Mitsuba's `instance`: a copy of a shapegroup's shapes under its own to_world.
+  void instance(const Node& n) {
+    register_id(n, "shape");
+    const Props p(n);
+    const Node* ref = nullptr;
+    for (const Node& o : p.objects) {
+      if (o.tag() != "ref" || ref) o.fail("an instance refers to one shapegroup");
+      ref = &o;
+    }
+    for (const auto& [name, o] : p.named)
+      if (o.tag() == "ref") {
+        if (ref) o.fail("an instance refers to one shapegroup");
+        ref = p.find(name);
+      }
+    if (!ref) n.fail("an instance needs a <ref> to a shapegroup");
+    build_declared(ref->attr("id"));
+    const auto group = groups_.find(ref->attr("id"));
+    if (group == groups_.end()) ref->fail("'" + ref->attr("id") + "' is no shapegroup");
+    const glm::mat4 to_world = p.transform("to_world");
+    check_to_world(n, to_world);
+    p.check_all_used();
+    const std::string id = n.attr_or("id", "instance " + std::to_string(scene_.shapes.size()));
+    for (const Shape& member : group->second) {
+      Shape s = member;
+      s.id = id + "/" + member.id;
+      s.mesh.transform(to_world);
+      s.mesh.validate(n.where());
+      scene_.shapes.push_back(std::move(s));
+    }
+  }
+
+  static void check_to_world(const Node& n, const glm::mat4& to_world) {
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!std::isfinite(to_world[c][r])) n.fail("the to_world transform is not finite (it overflows)");
+    // A singular to_world (a zero scale) flattens the mesh and leaves its normals undefined.
+    if (!(std::fabs(glm::determinant(glm::mat3(to_world))) > 0))
+      n.fail("the to_world transform is singular (a zero scale?)");
+  }
+
+  Shape build_shape(const Node& n) {
+    register_id(n, "shape");
+    const Props p(n);
+    const std::string type = p.type();
+    if (const char* why = loader::refused_plugin("shape", type)) n.fail(why);
+    const auto reader = loader::shape_reader(type);
+    if (!reader) n.fail("unsupported shape type '" + type + "'");
+    Shape s;
+    s.id = n.attr_or("id", "shape " + std::to_string(scene_.shapes.size()));
+    loader::ShapePlugin made;
+    try {
+      made = reader(*this, p);
+    } catch (const InputError& e) {
+      if (std::string(e.what()).starts_with(n.where())) throw;
+      n.fail(e.what());  // a mesh file's own message, prefixed with the element that named it
+    }
+    s.mesh = std::move(made.mesh);
+    const glm::mat4 to_world = p.transform("to_world") * made.to_world;
+    if (p.boolean("face_normals", false)) s.mesh.normals.clear();
+    check_to_world(n, to_world);
+    s.mesh.transform(to_world);
+    if (p.boolean("flip_normals", false)) s.mesh.flip();
+    s.mesh.validate(n.where());
+
+    std::shared_ptr<const Bsdf> b;
+    auto set_bsdf = [&](const Node& o, std::shared_ptr<const Bsdf> nested) {
+      if (b) o.fail("a shape has one BSDF");
+      b = std::move(nested);
+    };
+    auto set_emitter = [&](const Node& o, const Texture& radiance) {
+      if (s.is_emitter() || s.radiance_texture) o.fail("a shape has one emitter");
+      s.radiance = radiance.mean();
+      if (!radiance.is_constant()) s.radiance_texture = radiance;
+    };
+    auto reference = [&](const Node& o) {
+      const std::string id = o.attr("id");
+      build_declared(id);
+      if (const auto it = area_emitters_.find(id); it != area_emitters_.end())
+        set_emitter(o, it->second);
+      else
+        set_bsdf(o, bsdf_reference(o));
+    };
+    for (const Node& o : p.objects) {
+      const std::string t = o.tag();
+      if (t == "bsdf") {
+        set_bsdf(o, bsdf(o));
+      } else if (t == "ref") {
+        reference(o);
+      } else if (t == "emitter") {
+        auto e = emitter_plugin(o);
+        if (!e.area) o.fail("only area emitters can be attached to shapes");
+        set_emitter(o, *e.area);
+      } else {
+        o.fail("unexpected inside a shape");
+      }
+    }
+    // Named references (<ref name="bsdf" id=".."/>): Mitsuba finds a shape's objects by their kind, not their name.
+    for (const auto& [name, o] : p.named)
+      if (o.tag() == "ref") reference(*p.find(name));
+    p.check_all_used();
+    // A null BSDF makes the surface vanish for every ray, its emission with it, while light sampling would still
+    // find the emitter: the two would disagree.
+    if (s.is_emitter() && b && dynamic_cast<const NullBsdf*>(b.get()))
+      n.fail("an emitting shape with a null BSDF is not supported (its surface is invisible to rays)");
+    s.material = material_index(b ? b : default_bsdf());
+    return s;
+  }
+
+  // ---- emitters -------------------------------------------------------------------------------------------------
+  loader::EmitterPlugin emitter_plugin(const Node& n) {
+    const Props p(n);
+    const std::string type = p.type();
+    const auto reader = loader::emitter_reader(type);
+    if (!reader) n.fail("unsupported emitter type '" + type + "'");
+    auto e = reader(*this, p);
+    // Every Mitsuba emitter takes a share of the light samples; clradiosity chooses its own.
+    p.ignore({"sampling_weight"});
+    p.check_all_used();
+    return e;
+  }
+
+  void emitter(const Node& n) {
+    register_id(n, "emitter");
+    auto e = emitter_plugin(n);
+    if (e.area) {
+      // Mitsuba lets an area emitter be declared once and attached to shapes by <ref>.
+      if (!n.has("id")) n.fail("an area emitter must be nested in a shape, or have an id a shape refers to");
+      area_emitters_[n.attr("id")] = *e.area;
+    } else if (e.environment) {
+      if (scene_.environment) n.fail("a scene has at most one environment emitter");
+      scene_.environment = std::move(e.environment);
+    } else if (e.delta) {
+      scene_.delta_lights.push_back(std::move(*e.delta));
+    }
+  }
+
+  // ---- sensor ---------------------------------------------------------------------------------------------------
+  void sensor(const Node& n) {
+    register_id(n, "sensor");
+    const Props p(n);
+    const auto reader = loader::sensor_reader(p.type());
+    if (!reader) n.fail("unsupported sensor type '" + p.type() + "' (perspective, thinlens, orthographic)");
+    if (sensor_seen_) n.fail("a scene has one sensor");
+    sensor_seen_ = true;
+    scene_.has_sensor = true;
+    reader(*this, p, scene_.camera);
+    p.check_all_used();
+    Camera& c = scene_.camera;
+    for (const Node& o : p.objects) {
+      if (o.tag() != "film") continue;
+      const Props f(o);
+      c.width = f.integer("width", 768);
+      c.height = f.integer("height", 576);
+      try {
+        image::check_image_size(c.width, c.height, "film");
+      } catch (const InputError& e) {
+        o.fail(e.what());
+      }
+    }
+  }
+
+  std::vector<std::unique_ptr<xml::Source>> sources_;
+  std::map<std::string, std::string> params_;
+  std::filesystem::path scene_folder_;
+  std::vector<std::filesystem::path> search_folders_;
+  std::set<std::filesystem::path> including_;
+  std::map<std::string, Node> declared_;    // top-level plugins with an id, by id
+  std::set<const void*> built_;             // top-level plugins with an id already built
+  std::map<std::string, std::string> ids_;  // id → kind of element
+  std::map<std::string, std::shared_ptr<const Bsdf>> bsdfs_;
+  std::map<std::string, Texture> textures_;
+  std::map<std::string, Texture> area_emitters_;
+  std::map<std::string, std::vector<Shape>> groups_;  // shapegroups by id
+  std::map<std::tuple<std::string, bool, float>, std::shared_ptr<const Bitmap>> bitmaps_;
+  std::map<const Bsdf*, int> material_ids_;
+  std::shared_ptr<const Bsdf> default_bsdf_;
+  bool sensor_seen_ = false;
+  Scene scene_;
+};
+
+}  // namespace
+
+Scene load_scene(const std::filesystem::path& path, const std::map<std::string, std::string>& parameters) {
+  return Loader(parameters).load(path);
+}
+
+void require_emitter(const Scene& scene, const std::filesystem::path& path) {
+  if (scene.environment || !scene.delta_lights.empty()) return;
+  // A shape whose triangles are all degenerate is a valid part of a scene (it is never hit), but no light.
+  for (const auto& s : scene.shapes)
+    if (s.is_emitter() && s.mesh.area() > 0) return;
+  throw InputError(path.string() +
+                   ": the scene has no emitter (an area emitter on a shape of non-zero area, an environment or "
+                   "a point, spot, directional or projector light): every radiance would be zero");
+}
+
+void require_trainable(const Scene& scene, const std::filesystem::path& path) {
+  if (!scene.delta_lights.empty())
+    throw InputError(path.string() +
+                     ": point, spot, directional and projector lights are not supported by training yet (they "
+                     "reach surfaces only through next-event estimation); the reference renders them");
+}
+
+void require_sensor(const Scene& scene, const std::filesystem::path& path) {
+  if (!scene.has_sensor) throw InputError(path.string() + ": the scene has no <sensor> to render from");
+  scene.camera.validate(path.string() + ": <sensor>");
+}
+
+}  // namespace clr::scene

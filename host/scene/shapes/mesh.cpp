@@ -1,0 +1,117 @@
+#include "scene/mesh.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+#include <tuple>
+
+#include "common/error.hpp"
+
+namespace clr::scene {
+
+void Mesh::transform(const glm::mat4& to_world) {
+  for (auto& p : positions) p = Vec3(to_world * glm::vec4(p, 1.0f));
+  const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(to_world)));
+  for (auto& n : normals) n = glm::normalize(normal_matrix * n);
+}
+
+void Mesh::flip() {
+  for (auto& t : triangles) std::swap(t.y, t.z);
+  for (auto& n : normals) n = -n;
+}
+
+void Mesh::compute_vertex_normals() {
+  normals.assign(positions.size(), Vec3(0.0f));
+  for (const auto& t : triangles) {
+    // validate() names an index out of range once the loader has the mesh whole; until then it must not be used.
+    if (std::size_t(std::max({t.x, t.y, t.z})) >= positions.size()) continue;
+    const Vec3 p[3] = {positions[t.x], positions[t.y], positions[t.z]};
+    const Vec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
+    const float len = glm::length(n);
+    if (!(len > 0)) continue;
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 e1 = p[(i + 1) % 3] - p[i], e2 = p[(i + 2) % 3] - p[i];
+      const float angle = std::acos(std::clamp(glm::dot(e1, e2) / (glm::length(e1) * glm::length(e2)), -1.0f, 1.0f));
+      normals[t[i]] += n / len * angle;
+    }
+  }
+  for (auto& n : normals) {
+    const float len = glm::length(n);
+    n = len > 0 ? n / len : Vec3(0, 0, 1);
+  }
+}
+
+void Mesh::compute_crease_normals(float max_angle_degrees) {
+  // Corners at the same position share a normal across an edge only when their faces' normals lie within the
+  // angle; every corner becomes its own vertex (uvs kept) holding the angle-weighted mean of those faces.
+  const std::size_t nt = triangles.size();
+  std::vector<Vec3> face(nt, Vec3(0.0f));
+  std::vector<Vec3> corner_weight(nt, Vec3(0.0f));  // the angle at each corner
+  for (std::size_t f = 0; f < nt; ++f) {
+    const auto& t = triangles[f];
+    const Vec3 p[3] = {positions[t.x], positions[t.y], positions[t.z]};
+    const Vec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
+    const float len = glm::length(n);
+    if (!(len > 0)) continue;
+    face[f] = n / len;
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 e1 = p[(i + 1) % 3] - p[i], e2 = p[(i + 2) % 3] - p[i];
+      corner_weight[f][i] = std::acos(std::clamp(glm::dot(e1, e2) / (glm::length(e1) * glm::length(e2)), -1.0f, 1.0f));
+    }
+  }
+  // Corners grouped by exact position (vertices a file duplicated for their uvs meet here again).
+  std::map<std::tuple<float, float, float>, std::vector<std::uint32_t>> at;  // position → corners (3f + i)
+  for (std::size_t f = 0; f < nt; ++f)
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 q = positions[triangles[f][i]];
+      at[{q.x, q.y, q.z}].push_back(std::uint32_t(3 * f + std::size_t(i)));
+    }
+  const float cos_max = std::cos(max_angle_degrees * kPi / 180.0f);
+  Mesh out;
+  out.positions.resize(3 * nt);
+  out.normals.resize(3 * nt);
+  if (!uvs.empty()) out.uvs.resize(3 * nt);
+  out.triangles.resize(nt);
+  for (std::size_t f = 0; f < nt; ++f)
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t v = triangles[f][i], c = std::uint32_t(3 * f + std::size_t(i));
+      out.positions[c] = positions[v];
+      if (!uvs.empty()) out.uvs[c] = uvs[v];
+      out.triangles[f][i] = c;
+      Vec3 sum(0.0f);
+      for (const std::uint32_t o : at[{positions[v].x, positions[v].y, positions[v].z}])
+        if (glm::dot(face[o / 3], face[f]) >= cos_max) sum += face[o / 3] * corner_weight[o / 3][int(o % 3)];
+      const float len = glm::length(sum);
+      out.normals[c] = len > 0 ? sum / len : (glm::length(face[f]) > 0 ? face[f] : Vec3(0, 0, 1));
+    }
+  *this = std::move(out);
+}
+
+void Mesh::validate(const std::string& what) const {
+  if (triangles.empty()) throw InputError(what + ": mesh has no triangles");
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    if (!std::isfinite(positions[i].x) || !std::isfinite(positions[i].y) || !std::isfinite(positions[i].z))
+      throw InputError(what + ": vertex " + std::to_string(i) + " is not finite (NaN geometry)");
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    if (glm::any(glm::greaterThan(glm::abs(positions[i]), Vec3(kMaxCoordinate))))
+      throw InputError(what + ": vertex " + std::to_string(i) +
+                       " lies beyond ±1e12, farther than single-precision ray tracing can resolve");
+  for (const auto& n : normals)
+    if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z))
+      throw InputError(what + ": a vertex normal is not finite");
+  for (const auto& uv : uvs)
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) throw InputError(what + ": a texture coordinate is not finite");
+  for (const auto& t : triangles)
+    if (t.x >= positions.size() || t.y >= positions.size() || t.z >= positions.size())
+      throw InputError(what + ": triangle index out of range");
+}
+
+double Mesh::area() const {
+  double a = 0;
+  for (const auto& t : triangles)
+    a += 0.5 * double(glm::length(glm::cross(positions[t.y] - positions[t.x], positions[t.z] - positions[t.x])));
+  return a;
+}
+
+}  // namespace clr::scene

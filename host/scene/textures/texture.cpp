@@ -1,0 +1,111 @@
+#include "scene/texture.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.hpp"
+#include "image/image.hpp"
+
+namespace clr::scene {
+namespace {
+int repeat(int i, int n) {
+  const int m = i % n;
+  return m < 0 ? m + n : m;
+}
+int address(int i, int n, Bitmap::Wrap wrap) {
+  switch (wrap) {
+    case Bitmap::Wrap::clamp:
+      return std::clamp(i, 0, n - 1);
+    case Bitmap::Wrap::mirror: {
+      const int m = repeat(i, 2 * n);
+      return m < n ? m : 2 * n - 1 - m;
+    }
+    default:
+      return repeat(i, n);
+  }
+}
+}  // namespace
+
+std::shared_ptr<const Bitmap> Bitmap::load(const std::filesystem::path& path, bool raw, float gamma) {
+  if (!std::filesystem::exists(path)) throw InputError(path.string() + ": texture file not found");
+  auto ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  // EXR stores linear values already; 8-bit formats are sRGB-encoded unless the scene says `raw`.
+  const bool hdr = ext == ".exr" || ext == ".hdr";
+  image::Image img = hdr ? image::read_float_image(path) : image::read_ldr(path, !raw && !(gamma > 0));
+  if (!hdr && !raw && gamma > 0)
+    for (float& v : img.rgb) v = std::pow(v, gamma);
+  auto bmp = std::make_shared<Bitmap>();
+  bmp->width = img.width;
+  bmp->height = img.height;
+  bmp->texels.resize(std::size_t(img.width) * std::size_t(img.height));
+  glm::dvec3 sum(0.0);
+  for (std::size_t i = 0; i < bmp->texels.size(); ++i) {
+    bmp->texels[i] = Rgb(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]);
+    // An EXR may hold NaN or infinities; as a reflectance they would poison every path that touches them.
+    if (!std::isfinite(bmp->texels[i].x) || !std::isfinite(bmp->texels[i].y) || !std::isfinite(bmp->texels[i].z))
+      throw InputError(path.string() + ": texture has non-finite texels");
+    sum += glm::dvec3(bmp->texels[i]);
+  }
+  if (bmp->texels.empty()) throw InputError(path.string() + ": empty texture");
+  bmp->mean = Rgb(sum / double(bmp->texels.size()));
+  return bmp;
+}
+
+Rgb Bitmap::texel(int x, int y, Wrap wrap) const {
+  return texels[std::size_t(address(y, height, wrap)) * width + address(x, width, wrap)];
+}
+
+Rgb Bitmap::bilinear(const Vec2& uv, Wrap wrap) const {
+  const float x = uv.x * float(width) - 0.5f, y = uv.y * float(height) - 0.5f;
+  const float fx = std::floor(x), fy = std::floor(y);
+  const float ax = x - fx, ay = y - fy;
+  const int ix = int(fx), iy = int(fy);
+  return (1 - ay) * ((1 - ax) * texel(ix, iy, wrap) + ax * texel(ix + 1, iy, wrap)) +
+         ay * ((1 - ax) * texel(ix, iy + 1, wrap) + ax * texel(ix + 1, iy + 1, wrap));
+}
+
+Rgb Bitmap::nearest(const Vec2& uv, Wrap wrap) const {
+  return texel(int(std::floor(uv.x * float(width))), int(std::floor(uv.y * float(height))), wrap);
+}
+
+Texture Texture::bitmap(std::shared_ptr<const Bitmap> bitmap, const UvTransform& to_uv, bool bilinear,
+                        Bitmap::Wrap wrap) {
+  Texture t;
+  t.kind_ = Kind::bitmap;
+  t.bitmap_ = std::move(bitmap);
+  t.to_uv_ = to_uv;
+  t.bilinear_ = bilinear;
+  t.wrap_ = wrap;
+  return t;
+}
+
+Texture Texture::checkerboard(const Rgb& color0, const Rgb& color1, const UvTransform& to_uv) {
+  Texture t(color0);
+  t.kind_ = Kind::checkerboard;
+  t.c1_ = color1;
+  t.to_uv_ = to_uv;
+  return t;
+}
+
+Rgb Texture::eval_varying(const Vec2& uv_in) const {
+  const Vec2 uv = to_uv_.apply(uv_in);
+  if (kind_ == Kind::bitmap) return bilinear_ ? bitmap_->bilinear(uv, wrap_) : bitmap_->nearest(uv, wrap_);
+  // Mitsuba's checkerboard: colour 0 where the fractional parts of u and v lie in the same half.
+  const bool mu = uv.x - std::floor(uv.x) > 0.5f, mv = uv.y - std::floor(uv.y) > 0.5f;
+  return mu == mv ? c0_ : c1_;
+}
+
+Rgb Texture::mean() const {
+  switch (kind_) {
+    case Kind::constant:
+      return c0_;
+    case Kind::bitmap:
+      return bitmap_->mean;
+    case Kind::checkerboard:
+      return 0.5f * (c0_ + c1_);
+  }
+  return c0_;
+}
+
+}  // namespace clr::scene

@@ -1,0 +1,174 @@
+// Point, spot, directional and projector lights (Mitsuba's delta emitters): what arrives from each, as Mitsuba
+// defines it, and the path tracer against closed forms — a point light at the centre of a diffuse sphere and a
+// directional light on a diffuse plane.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/error.hpp"
+#include "geometry/geometry.hpp"
+#include "reference/path_tracer.hpp"
+#include "scene/scene.hpp"
+#include "scene/scene_files.hpp"
+
+namespace clr::test {
+namespace {
+
+using scene::DeltaLight;
+using scene::Rgb;
+using scene::Vec3;
+
+class DeltaLights : public SceneFiles {
+ protected:
+  // Mean of every channel of a reference render.
+  double mean_radiance(const scene::Scene& s, int spp, int size = 16) const {
+    const geometry::Geometry g(s);
+    reference::RenderOptions o;
+    o.width = o.height = size;
+    o.spp = spp;
+    const auto img = reference::render(g, o);
+    double sum = 0;
+    for (float v : img.rgb) sum += v;
+    return sum / double(img.rgb.size());
+  }
+};
+
+TEST_F(DeltaLights, PointLightAtTheCentreOfADiffuseSphere) {
+  // Every bounce inside a closed sphere of albedo ρ spreads evenly: L = ρ·I / (π R² (1 − ρ)).
+  const auto s = scene::load_scene(scene(R"(
+    <emitter type="point"><point name="position" value="1, 2, 3"/><rgb name="intensity" value="3"/></emitter>
+    <shape type="sphere"><point name="center" value="1, 2, 3"/><float name="radius" value="2"/>
+      <boolean name="flip_normals" value="true"/>
+      <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>
+    <sensor type="perspective"><float name="fov" value="60"/>
+      <transform name="to_world"><lookat origin="1, 2, 3" target="1, 2, 4" up="0, 1, 0"/></transform></sensor>)"));
+  ASSERT_EQ(s.delta_lights.size(), 1u);
+  const double want = 0.5 * 3.0 / (scene::kPi * 4.0 * 0.5);
+  EXPECT_NEAR(mean_radiance(s, 256), want, 0.02 * want);
+}
+
+TEST_F(DeltaLights, DirectionalLightOnADiffusePlane) {
+  // One bounce: L = ρ/π · E · cos θ, the same for every sample (the light's only share is chosen with probability 1).
+  const auto s = scene::load_scene(scene(R"(
+    <emitter type="directional"><vector name="direction" value="0.5, 0, -0.8660254"/>
+      <rgb name="irradiance" value="2, 4, 6"/></emitter>
+    <shape type="rectangle"><transform name="to_world"><scale value="100"/></transform>
+      <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>
+    <sensor type="perspective"><float name="fov" value="20"/>
+      <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform></sensor>)"));
+  const double want = 0.5 / scene::kPi * 4.0 * 0.8660254;  // mean of the channels 2, 4, 6
+  EXPECT_NEAR(mean_radiance(s, 4), want, 1e-3 * want);
+}
+
+TEST(DeltaLightArrival, PointAndDirectional) {
+  DeltaLight point;
+  point.position = Vec3(0, 0, 3);
+  point.intensity = Rgb(9.0f);
+  const auto a = point.arrive(Vec3(0, 0, 0));
+  EXPECT_FLOAT_EQ(a.distance, 3.0f);
+  EXPECT_FLOAT_EQ(a.radiance.x, 1.0f);  // I / d²
+  EXPECT_FLOAT_EQ(a.direction.z, 1.0f);
+  DeltaLight sun;
+  sun.kind = DeltaLight::Kind::directional;
+  sun.direction = Vec3(0, -1, 0);
+  sun.intensity = Rgb(2.0f);
+  const auto b = sun.arrive(Vec3(5, 5, 5));
+  EXPECT_TRUE(std::isinf(b.distance));
+  EXPECT_FLOAT_EQ(b.direction.y, 1.0f);
+  EXPECT_FLOAT_EQ(b.radiance.x, 2.0f);
+}
+
+TEST_F(DeltaLights, SpotFallsOffLinearlyInAngle) {
+  const auto s = scene::load_scene(scene(R"(
+    <emitter type="spot"><rgb name="intensity" value="4"/>
+      <float name="cutoff_angle" value="30"/><float name="beam_width" value="20"/>
+      <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform></emitter>)"));
+  const DeltaLight& l = s.delta_lights.at(0);
+  auto at_angle = [&](float degrees) {
+    const float t = degrees * scene::kPi / 180.0f;
+    return l.arrive(Vec3(2 * std::tan(t), 0, 0)).radiance.x * (4 + 4 * std::tan(t) * std::tan(t));  // × d²
+  };
+  EXPECT_NEAR(at_angle(0), 4.0f, 1e-4f);
+  EXPECT_NEAR(at_angle(15), 4.0f, 1e-4f);               // within the beam
+  EXPECT_NEAR(at_angle(25), 2.0f, 1e-3f);               // half-way between beam and cutoff
+  EXPECT_NEAR(at_angle(31), 0.0f, 1e-6f);               // beyond the cutoff
+  EXPECT_EQ(l.arrive(Vec3(0, 0, 4)).radiance.x, 0.0f);  // behind
+  // Defaults: cutoff 20°, beam 15°.
+  const auto d = scene::load_scene(scene(R"(<emitter type="spot"/>)")).delta_lights.at(0);
+  EXPECT_NEAR(d.cutoff, 20.0f * scene::kPi / 180.0f, 1e-6f);
+  EXPECT_NEAR(d.beam_width, 15.0f * scene::kPi / 180.0f, 1e-6f);
+}
+
+TEST_F(DeltaLights, ProjectorLightsAFacingPlaneEvenly) {
+  const auto s = scene::load_scene(scene(R"(
+    <emitter type="projector"><rgb name="irradiance" value="0.5"/><float name="scale" value="2"/>
+      <float name="fov" value="60"/>
+      <transform name="to_world"><lookat origin="0, 0, 0" target="0, 0, 1" up="0, 1, 0"/></transform></emitter>)"));
+  const DeltaLight& l = s.delta_lights.at(0);
+  // On the plane z = 2 facing it, radiance · cos (what a diffuse surface there integrates) is π·scale·E / z².
+  for (const float x : {0.0f, 0.5f, 1.0f}) {
+    const auto a = l.arrive(Vec3(x, 0.3f, 2));
+    EXPECT_NEAR(a.radiance.x * -a.direction.z, scene::kPi * 2 * 0.5f / 4, 1e-4f) << x;
+  }
+  EXPECT_EQ(l.arrive(Vec3(2, 0, 2)).radiance.x, 0.0f);  // outside its 60° image
+  EXPECT_EQ(l.arrive(Vec3(0, 0, -2)).radiance.x, 0.0f);
+}
+
+TEST_F(DeltaLights, LoaderReadsTheirPropertiesAndTrainingRefusesThem) {
+  const auto file = scene(R"(
+    <emitter type="point"><transform name="to_world"><translate x="1" y="2" z="3"/></transform></emitter>
+    <emitter type="directional"><transform name="to_world"><lookat origin="0, 0, 0" target="0, -1, 0" up="0, 0, 1"/>
+      </transform></emitter>
+    <shape type="rectangle"/>)");
+  const auto s = scene::load_scene(file);
+  ASSERT_EQ(s.delta_lights.size(), 2u);
+  EXPECT_FLOAT_EQ(s.delta_lights[0].position.z, 3.0f);
+  EXPECT_NEAR(s.delta_lights[1].direction.y, -1.0f, 1e-6f);
+  EXPECT_NO_THROW(scene::require_emitter(s, file));
+  try {
+    scene::require_trainable(s, file);
+    ADD_FAILURE() << "training accepted a point light";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("not supported by training"));
+  }
+  EXPECT_THROW(scene::load_scene(scene(R"(<emitter type="projector"/>)")), InputError);  // needs an irradiance
+  EXPECT_THROW(scene::load_scene(scene(R"(<emitter type="spot"><float name="beam_width" value="30"/></emitter>)")),
+               InputError);  // wider than the cutoff
+}
+
+}  // namespace
+}  // namespace clr::test
+
+namespace clr::test {
+namespace {
+
+class TexturedEmitters : public SceneFiles {};
+
+TEST_F(TexturedEmitters, AreaRadianceFollowsItsTexture) {
+  // An orthographic view framing a rectangle whose radiance is a 4 × 4 checkerboard of 2 and 0: each pixel (8 per
+  // cell) sees one cell, so the image holds 2 and 0 in equal parts.
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="rectangle"><emitter type="area"><texture type="checkerboard" name="radiance">
+      <rgb name="color0" value="2"/><rgb name="color1" value="0"/>
+      <transform name="to_uv"><scale value="2"/></transform></texture></emitter></shape>
+    <sensor type="orthographic">
+      <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+      <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/></film></sensor>)"));
+  ASSERT_TRUE(s.shapes[0].radiance_texture.has_value());
+  EXPECT_FLOAT_EQ(s.shapes[0].radiance.x, 1.0f);  // its mean
+  const geometry::Geometry g(s);
+  reference::RenderOptions o;
+  o.spp = 1;
+  o.max_depth = 1;
+  const auto img = reference::render(g, o);
+  int bright = 0;
+  for (float v : img.rgb) {
+    EXPECT_TRUE(v == 0.0f || v == 2.0f) << v;
+    bright += v == 2.0f;
+  }
+  EXPECT_EQ(bright, int(img.rgb.size()) / 2);
+}
+
+}  // namespace
+}  // namespace clr::test

@@ -1,0 +1,332 @@
+// What real Mitsuba scenes write and the loader once refused (issue 28): <path> folders and file lookup in the
+// main scene's folder, sensors without a fov, clip planes and focus distance, named and top-level references,
+// Mitsuba 0.x spellings (#rrggbb, lookAt, samplingWeight, filterType, unused properties), spectra given as
+// wavelength:value pairs, crease-angle normals; and the refusals of what clradiosity does not model.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <stb_image_write.h>
+
+#include <cmath>
+
+#include "common/error.hpp"
+#include "geometry/geometry.hpp"
+#include "image/image.hpp"
+#include "reference/path_tracer.hpp"
+#include "scene/bsdfs.hpp"
+#include "scene/scene.hpp"
+#include "scene/scene_files.hpp"
+#include "scene/xml/spectrum.hpp"
+
+namespace clr::test {
+namespace {
+
+using scene::Rgb;
+using scene::Vec2;
+using scene::Vec3;
+using ::testing::HasSubstr;
+
+class RealScenes : public SceneFiles {
+ protected:
+  // The InputError's message, or "" when the scene loads.
+  std::string refusal(const std::string& body, const std::string& version = "3.0.0") const {
+    try {
+      scene::load_scene(scene(body, version));
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  }
+};
+
+const char* kTriangleObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
+TEST_F(RealScenes, PathFoldersAndTheSceneFolderResolveFileNames) {
+  std::filesystem::create_directories(dir_ / "assets");
+  std::filesystem::create_directories(dir_ / "meshes");
+  std::filesystem::create_directories(dir_ / "include");
+  write("assets/a.obj", kTriangleObj);
+  write("meshes/b.obj", kTriangleObj);
+  // An included file names a mesh relative to the main scene's folder, not its own (Mitsuba's file resolver).
+  write("include/shapes.xml", R"(<scene version="3.0.0">
+    <shape type="obj"><string name="filename" value="meshes/b.obj"/></shape></scene>)");
+  const auto s = scene::load_scene(scene(R"(
+    <path value="assets"/>
+    <shape type="obj"><string name="filename" value="a.obj"/></shape>
+    <include filename="include/shapes.xml"/>)"));
+  EXPECT_EQ(s.shapes.size(), 2u);
+  // A <path> folder that is not there holds no file: only a file looked up in vain is refused.
+  EXPECT_EQ(refusal(R"(<path value="no-such-folder"/>)"), "");
+  EXPECT_THAT(refusal(R"(<shape type="obj"><string name="filename" value="nowhere.obj"/></shape>)"),
+              HasSubstr("not found"));
+}
+
+TEST_F(RealScenes, PerspectiveSensorFromFocalLengthWithClipPlanes) {
+  auto s = scene::load_scene(scene(R"(<sensor type="perspective">
+      <float name="focus_distance" value="3"/> <float name="far_clip" value="20"/> <float name="near_clip" value="0.5"/>
+    </sensor>)"));
+  // Mitsuba: 50 mm on 35 mm film spans the diagonal, 2·atan(√(36² + 24²) / 100).
+  EXPECT_EQ(s.camera.fov_axis, scene::Camera::FovAxis::diagonal);
+  EXPECT_NEAR(s.camera.fov_degrees, 2.0 * std::atan(std::sqrt(36.0 * 36 + 24 * 24) / 100.0) * 180 / scene::kPi, 1e-4);
+  const auto ray = s.camera.ray(0.5f * float(s.camera.width), 0.5f * float(s.camera.height));
+  EXPECT_NEAR(ray.tnear, 0.5f, 1e-4f);
+  EXPECT_NEAR(ray.tfar, 20.0f, 1e-3f);  // the far plane bounds camera rays
+  s = scene::load_scene(scene(R"(<sensor type="perspective"><string name="focal_length" value="28mm"/></sensor>)"));
+  EXPECT_NEAR(s.camera.fov_degrees, 2.0 * std::atan(std::sqrt(36.0 * 36 + 24 * 24) / 56.0) * 180 / scene::kPi, 1e-4);
+  EXPECT_THAT(refusal(R"(<sensor type="perspective"><float name="fov" value="30"/>
+    <string name="focal_length" value="28mm"/></sensor>)"),
+              HasSubstr("not both"));
+  EXPECT_THAT(refusal(R"(<sensor type="perspective"><string name="focal_length" value="long"/></sensor>)"),
+              HasSubstr("focal_length"));
+  EXPECT_THAT(refusal(R"(<sensor type="perspective"><float name="far_clip" value="0.001"/></sensor>)"),
+              HasSubstr("near_clip must be smaller than far_clip"));
+}
+
+TEST_F(RealScenes, NamedAndTopLevelReferences) {
+  const auto s = scene::load_scene(scene(R"(
+    <bsdf type="diffuse" id="red"><rgb name="reflectance" value="0.8, 0.1, 0.1"/></bsdf>
+    <emitter type="area" id="light"><rgb name="radiance" value="5"/></emitter>
+    <shape type="rectangle"><ref name="bsdf" id="red"/></shape>
+    <shape type="rectangle"><ref id="light"/></shape>
+    <shape type="rectangle"><ref name="emitter" id="light"/><ref id="red"/></shape>)"));
+  EXPECT_FLOAT_EQ(s.bsdf(s.shapes[0]).albedo(Vec2(0)).x, 0.8f);
+  EXPECT_FLOAT_EQ(s.shapes[1].radiance.y, 5.0f);
+  EXPECT_FLOAT_EQ(s.shapes[2].radiance.y, 5.0f);
+  EXPECT_FLOAT_EQ(s.bsdf(s.shapes[2]).albedo(Vec2(0)).y, 0.1f);
+  EXPECT_THAT(refusal(R"(<emitter type="area"><rgb name="radiance" value="5"/></emitter>)"), HasSubstr("have an id"));
+  // References may point forwards, as Mitsuba resolves them after reading the file.
+  const auto f = scene::load_scene(scene(R"(
+    <shape type="rectangle"><ref id="later"/><ref name="emitter" id="lamp"/></shape>
+    <bsdf type="diffuse" id="later"><texture type="checkerboard" name="reflectance" id="tex"/></bsdf>
+    <emitter type="area" id="lamp"><rgb name="radiance" value="2"/></emitter>
+    <shape type="rectangle"><bsdf type="diffuse"><ref name="reflectance" id="tex"/></bsdf></shape>)"));
+  EXPECT_FLOAT_EQ(f.shapes[0].radiance.x, 2.0f);
+  EXPECT_EQ(f.materials.size(), 2u);
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><ref name="bsdf" id="nothing"/></shape>)"),
+              HasSubstr("unknown id 'nothing'"));
+}
+
+TEST_F(RealScenes, MitsubaZeroSpellings) {
+  image::Image img(2, 2);
+  img.rgb.assign(12, 0.5f);
+  image::write_png(dir_ / "tex.png", img);
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="rectangle">
+      <bsdf type="diffuse"><srgb name="reflectance" value="#ff8000"/></bsdf>
+      <transform name="toWorld"><lookAt origin="0, 0, 0" target="0, 0, -1" up="0, 1, 0"/></transform>
+      <emitter type="area"><rgb name="radiance" value="1"/><float name="samplingWeight" value="2"/></emitter>
+    </shape>
+    <shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance">
+      <string name="filename" value="tex.png"/><string name="filterType" value="trilinear"/>
+    </texture></bsdf></shape>
+    <shape type="rectangle"><bsdf type="conductor"><float name="extEta" value="1.5"/></bsdf>
+      <float name="shadingSamples" value="4"/></shape>)",
+                                         "0.5.0"));
+  const Rgb orange = s.bsdf(s.shapes[0]).albedo(Vec2(0));
+  EXPECT_FLOAT_EQ(orange.x, 1.0f);
+  EXPECT_NEAR(orange.y, 0.2159f, 1e-3f);  // 128/255 sRGB-decoded
+  EXPECT_FLOAT_EQ(orange.z, 0.0f);
+  EXPECT_NEAR(s.shapes[0].mesh.normals[0].z, -1.0f, 1e-6f);  // lookAt as lookat
+  // A property no plugin reads is an error in Mitsuba 3 files (0.x only warned: shadingSamples above loaded).
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><float name="shading_samples" value="4"/></shape>)"),
+              HasSubstr("unused property 'shading_samples'"));
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="#ff80"/>
+    </bsdf></shape>)"),
+              HasSubstr("#rrggbb"));
+}
+
+TEST_F(RealScenes, NamedExteriorIorAndSmoothBsdfsGivenRoughness) {
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="rectangle"><bsdf type="conductor"><string name="material" value="Au"/>
+      <string name="ext_eta" value="water"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="conductor"><string name="material" value="Au"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="dielectric"><float name="alpha" value="0.2"/>
+      <string name="distribution" value="ggx"/></bsdf></shape>)"));
+  // Gold seen from water reflects less than from air.
+  EXPECT_LT(scene::luminance(s.bsdf(s.shapes[0]).albedo(Vec2(0))),
+            scene::luminance(s.bsdf(s.shapes[1]).albedo(Vec2(0))));
+  EXPECT_FALSE(s.bsdf(s.shapes[2]).has_non_delta());  // stays smooth
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="conductor">
+    <string name="ext_eta" value="unobtainium"/></bsdf></shape>)"),
+              HasSubstr("unknown IOR name"));
+}
+
+TEST_F(RealScenes, AnisotropicRoughness) {
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="rectangle"><bsdf type="roughconductor"><float name="alpha_u" value="0.1"/>
+      <float name="alpha_v" value="0.4"/><string name="distribution" value="ggx"/>
+      <boolean name="sample_visible" value="false"/></bsdf></shape>)"));
+  EXPECT_NEAR(s.bsdf(s.shapes[0]).roughness(), 0.2f, 1e-6f);  // the geometric mean
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="roughconductor"><float name="alpha_u" value="0.1"/>
+    </bsdf></shape>)"),
+              HasSubstr("both"));
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="roughplastic"><float name="alpha_u" value="0.1"/>
+    <float name="alpha_v" value="0.3"/></bsdf></shape>)"),
+              HasSubstr("not supported by roughplastic"));
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="roughdielectric">
+    <texture type="checkerboard" name="alpha"/></bsdf></shape>)"),
+              HasSubstr("textured roughness is not supported by roughdielectric"));
+}
+
+TEST_F(RealScenes, TexturedRoughnessOfRoughConductors) {
+  // A checkerboard of (alpha_u, alpha_v) = (0.05, 0.3) and (0.3, 0.05) evaluates like the untextured conductor of
+  // the cell's roughness.
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="rectangle"><bsdf type="roughconductor"><string name="material" value="Cu"/>
+      <texture type="checkerboard" name="alpha_u"><float name="color0" value="0.05"/><float name="color1" value="0.3"/>
+      </texture>
+      <texture type="checkerboard" name="alpha_v"><float name="color0" value="0.3"/><float name="color1" value="0.05"/>
+      </texture></bsdf></shape>
+    <shape type="rectangle"><bsdf type="roughconductor"><string name="material" value="Cu"/>
+      <float name="alpha_u" value="0.05"/><float name="alpha_v" value="0.3"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="roughconductor"><string name="material" value="Cu"/>
+      <float name="alpha_u" value="0.3"/><float name="alpha_v" value="0.05"/></bsdf></shape>)"));
+  const auto& textured = s.bsdf(s.shapes[0]);
+  EXPECT_TRUE(textured.anisotropic());
+  const Vec3 wo = glm::normalize(Vec3(0.3f, 0.1f, 1.0f)), wi = glm::normalize(Vec3(-0.2f, 0.25f, 1.0f));
+  for (const auto& [uv, plain] : {std::pair{Vec2(0.25f, 0.25f), 1}, std::pair{Vec2(0.75f, 0.25f), 2}}) {
+    EXPECT_FLOAT_EQ(textured.eval(uv, wo, wi).x, s.bsdf(s.shapes[std::size_t(plain)]).eval(uv, wo, wi).x);
+    EXPECT_FLOAT_EQ(textured.pdf(uv, wo, wi), s.bsdf(s.shapes[std::size_t(plain)]).pdf(uv, wo, wi));
+  }
+}
+
+TEST_F(RealScenes, NullBsdfLetsLightThroughAndRadianceHdrEnvmaps) {
+  // A Radiance .hdr environment of 0.25 seen through a rectangle with a null BSDF, which no ray meets.
+  const float texels[4 * 2 * 3] = {0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f,
+                                   0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f};
+  ASSERT_TRUE(stbi_write_hdr((dir_ / "sky.hdr").c_str(), 4, 2, 3, texels));
+  const auto s = scene::load_scene(scene(R"(
+    <emitter type="envmap"><string name="filename" value="sky.hdr"/><float name="scale" value="2"/></emitter>
+    <shape type="rectangle"><bsdf type="null"/><transform name="to_world"><scale value="10"/></transform></shape>
+    <sensor type="perspective"><float name="fov" value="20"/>
+      <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform></sensor>)"));
+  const geometry::Geometry g(s);
+  reference::RenderOptions o;
+  o.width = o.height = 4;
+  o.spp = 2;
+  for (float v : reference::render(g, o).rgb) EXPECT_NEAR(v, 0.5f, 1e-3f);
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="null"/><emitter type="area"/></shape>)"),
+              HasSubstr("null BSDF"));
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="blendbsdf"><bsdf type="diffuse"/></bsdf></shape>)"),
+              HasSubstr("exactly two"));
+}
+
+TEST_F(RealScenes, BitmapWrapModesAndGamma) {
+  image::Image img(2, 1);
+  img.rgb = {0, 0, 0, 1, 1, 1};  // black, white
+  image::write_png(dir_ / "bw.png", img);
+  img.rgb.assign(6, 0.5f);
+  image::write_png(dir_ / "grey.png", img);
+  const auto s = scene::load_scene(scene(R"(
+    <texture type="bitmap" id="repeat"><string name="filename" value="bw.png"/>
+      <string name="filter_type" value="nearest"/><boolean name="raw" value="true"/></texture>
+    <texture type="bitmap" id="clamp"><string name="filename" value="bw.png"/><string name="wrap_mode" value="clamp"/>
+      <string name="filter_type" value="nearest"/><boolean name="raw" value="true"/></texture>
+    <texture type="bitmap" id="mirror"><string name="filename" value="bw.png"/><string name="wrap_mode" value="mirror"/>
+      <string name="filter_type" value="nearest"/><boolean name="raw" value="true"/></texture>
+    <shape type="rectangle"><bsdf type="diffuse"><ref name="reflectance" id="repeat"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="diffuse"><ref name="reflectance" id="clamp"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="diffuse"><ref name="reflectance" id="mirror"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance">
+      <string name="filename" value="grey.png"/><boolean name="raw" value="true"/></texture></bsdf></shape>
+    <shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance">
+      <string name="filename" value="grey.png"/><float name="gamma" value="2.2"/></texture></bsdf></shape>)"));
+  auto at = [&](std::size_t shape, float u) { return s.bsdf(s.shapes[shape]).albedo(Vec2(u, 0.5f)).x; };
+  // u = 1.25 is texel 2 and u = −0.25 texel −1 of a 2-texel row.
+  EXPECT_EQ(at(0, 1.25f), 0.0f);
+  EXPECT_EQ(at(0, -0.25f), 1.0f);
+  EXPECT_EQ(at(1, 1.25f), 1.0f);
+  EXPECT_EQ(at(1, -0.25f), 0.0f);
+  EXPECT_EQ(at(2, 1.25f), 1.0f);  // mirrored back onto texel 1
+  EXPECT_EQ(at(2, -0.25f), 0.0f);
+  EXPECT_NEAR(at(4, 0.5f), std::pow(at(3, 0.5f), 2.2f), 1e-5f);  // gamma decodes v^2.2
+  EXPECT_THAT(refusal(R"(<texture type="bitmap"><string name="filename" value="bw.png"/>
+    <string name="wrap_mode" value="zero"/></texture>)"),
+              HasSubstr("unsupported wrap_mode"));
+}
+
+TEST_F(RealScenes, PhongAndRoughDiffuseFromMitsubaZeroFiles) {
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="rectangle"><bsdf type="phong"><rgb name="diffuseReflectance" value="1.5, 0.75, 0"/>
+      <float name="exponent" value="8"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="roughdiffuse"><rgb name="diffuseReflectance" value="0.4"/>
+      <float name="alpha" value="0.3"/><boolean name="useFastApprox" value="true"/></bsdf></shape>)",
+                                         "0.6.0"));
+  // ensureEnergyConservation: a reflectance above 1 is scaled down to 1.
+  EXPECT_FLOAT_EQ(s.bsdf(s.shapes[0]).albedo(Vec2(0)).x, 1.0f);
+  EXPECT_FLOAT_EQ(s.bsdf(s.shapes[0]).albedo(Vec2(0)).y, 0.5f);
+  EXPECT_FLOAT_EQ(s.bsdf(s.shapes[1]).albedo(Vec2(0)).x, 0.4f);
+}
+
+TEST_F(RealScenes, MaxSmoothAngleKeepsCreases) {
+  // Two faces meeting at 90° along the edge x = 0.
+  write("fold.obj", "v 0 0 0\nv 0 1 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\n");
+  auto s = scene::load_scene(scene(R"(<shape type="obj"><string name="filename" value="fold.obj"/>
+    <float name="max_smooth_angle" value="30"/></shape>)"));
+  const auto& m = s.shapes[0].mesh;
+  ASSERT_EQ(m.normals.size(), 6u);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(std::fabs(m.normals[std::size_t(c)].z), 1.0f, 1e-5f);  // creased: flat
+  s = scene::load_scene(scene(R"(<shape type="obj"><string name="filename" value="fold.obj"/>
+    <float name="max_smooth_angle" value="100"/></shape>)"));
+  // Smoothed across the fold: the shared edge's corners lean half-way (45°).
+  EXPECT_NEAR(std::fabs(s.shapes[0].mesh.normals[0].z), std::sqrt(0.5f), 1e-4f);
+}
+
+TEST(Spectrum, ColourMatchingFunctionsMatchTheCieTable) {
+  // CIE 1931 2° observer, published values (x̄, ȳ, z̄).
+  const struct {
+    float lambda;
+    Vec3 xyz;
+  } table[] = {{450, {0.3362f, 0.0380f, 1.7721f}},
+               {500, {0.0049f, 0.3230f, 0.2720f}},
+               {555, {0.5121f, 1.0000f, 0.0057f}},
+               {600, {1.0622f, 0.6310f, 0.0008f}},
+               {650, {0.2835f, 0.1070f, 0.0000f}}};
+  for (const auto& row : table) {
+    const Vec3 v = scene::cie1931_xyz(row.lambda);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(v[i], row.xyz[i], 0.025f) << row.lambda << " nm, component " << i;
+  }
+}
+
+TEST(Spectrum, WavelengthValuePairsBecomeRgb) {
+  // A flat spectrum has luminance equal to its value (the Y row of XYZ → sRGB inverts to luminance weights).
+  const Rgb flat = scene::spectrum_to_rgb({360, 830}, {0.5f, 0.5f}, true);
+  EXPECT_NEAR(scene::luminance(flat), 0.5f, 2e-3f);
+  // Reflectances are bounded to [0, 1], emission is not.
+  EXPECT_LE(scene::max_component(scene::spectrum_to_rgb({360, 830}, {5, 5}, true)), 1.0f);
+  EXPECT_NEAR(scene::luminance(scene::spectrum_to_rgb({360, 830}, {5, 5}, false)), 5.0f, 0.05f);
+  // Long wavelengths are red.
+  const Rgb red = scene::spectrum_to_rgb({600, 610, 700}, {0, 1, 1}, true);
+  EXPECT_GT(red.x, 5 * red.y);
+  EXPECT_GT(red.x, 5 * red.z);
+}
+
+TEST_F(RealScenes, SpectraInScenes) {
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="rectangle"><bsdf type="diffuse"><spectrum name="reflectance" value="400:0.5, 700:0.5"/></bsdf>
+      <emitter type="area"><spectrum name="radiance" value="360:8, 830:8"/></emitter></shape>)"));
+  EXPECT_NEAR(scene::luminance(s.shapes[0].radiance), 8.0f, 0.1f);
+  const Rgb r = s.bsdf(s.shapes[0]).albedo(Vec2(0));
+  EXPECT_GT(r.y, 0.4f);
+  EXPECT_LT(r.y, 0.5f);
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="diffuse">
+    <spectrum name="reflectance" value="400:0.5, 700"/></bsdf></shape>)"),
+              HasSubstr("wavelength:value"));
+}
+
+TEST_F(RealScenes, OutOfScopeFeaturesAreRefusedByName) {
+  EXPECT_THAT(refusal(R"(<integrator type="stokes"><integrator type="path"/></integrator>)"),
+              HasSubstr("polarization"));
+  EXPECT_THAT(refusal(R"(<integrator type="moment"><integrator type="stokes"/></integrator>)"),
+              HasSubstr("polarization"));
+  EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="polarizer"/></shape>)"), HasSubstr("polarization"));
+  EXPECT_THAT(refusal(R"(<medium type="homogeneous" id="fog"/>)"), HasSubstr("participating media"));
+  EXPECT_THAT(refusal(R"(<shape type="sphere"><medium type="homogeneous" name="interior"/></shape>)"),
+              HasSubstr("participating media"));
+  EXPECT_THAT(refusal(R"(<shape type="linearcurve"/>)"), HasSubstr("curves"));
+  // The emitter's type is checked before the count of environments.
+  EXPECT_THAT(refusal(R"(<emitter type="constant"/><emitter type="nosuchlight"/>)"),
+              HasSubstr("unsupported emitter type 'nosuchlight'"));
+}
+
+}  // namespace
+}  // namespace clr::test
