@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <set>
 #include <sstream>
 
@@ -129,6 +130,19 @@ TEST(NvptxCompileTarget, TheListHoldsEveryKernelFileTheHostBuilds) {
     if (entry.path().extension() != ".cl" || name == "peak.cl" || name == "reduce.cl") continue;
     EXPECT_TRUE(used.count(name)) << name << " is in no program of nn/programs.hpp";
   }
+}
+
+TEST(NvptxCompileTarget, HostCodeBuildsProgramsOnlyFromTheList) {
+  // A program composed inline (ctx.program({"x.cl"}, ...)) would escape the compile test above.
+  std::size_t files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(fs::path(CLR_SOURCE_DIR) / "host")) {
+    if (entry.path().extension() != ".cpp") continue;
+    ++files;
+    const std::string text = read_file(entry.path());
+    EXPECT_FALSE(std::regex_search(text, std::regex(R"(\.program\(\s*\{)")))
+        << entry.path() << " composes a program inline; name it in nn/programs.hpp";
+  }
+  EXPECT_GT(files, 10u);
 }
 
 }  // namespace
