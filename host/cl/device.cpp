@@ -79,10 +79,30 @@ const char* type_name(DeviceType type) {
 }
 
 std::string DeviceInfo::describe() const {
-  return spec() + "  " + platform_name + " / " + name + " (" + type_name(type) + ")";
+  return spec() + "  " + platform_name + " / " + name + " (" + type_name(type) + ")" +
+         (emulated.empty() ? "" : " [" + emulated + " limits]");
+}
+
+void emulate_nvidia_limits(DeviceInfo& d) {
+  // NVIDIA's OpenCL on every GPU since Volta: 1024 work-items a group, 48 KiB of __local memory a group, a largest
+  // allocation of a quarter of device memory; it has cl_khr_int64_base_atomics (kept as the device reports it) but
+  // neither cl_khr_fp16, cl_ext_float_atomics nor sub-groups.
+  d.max_work_group_size = std::min<std::size_t>(d.max_work_group_size, 1024);
+  d.local_mem_bytes = std::min<std::uint64_t>(d.local_mem_bytes, 48 * 1024);
+  d.max_alloc_bytes = std::min<std::uint64_t>(d.max_alloc_bytes, d.global_mem_bytes / 4);
+  d.fp16 = false;
+  d.float_atomics = false;
+  d.sub_groups = false;
+  d.emulated = "nvidia";
 }
 
 std::vector<DeviceInfo> list_devices() {
+  bool emulate_nvidia = false;
+  if (const char* env = std::getenv("CLRADIOSITY_EMULATE_LIMITS"); env && *env) {
+    if (lower(env) != "nvidia")
+      throw InputError(std::string("CLRADIOSITY_EMULATE_LIMITS='") + env + "' is not one of: nvidia");
+    emulate_nvidia = true;
+  }
   cl_uint np = 0;
   const cl_int status = clGetPlatformIDs(0, nullptr, &np);
   if (status == -1001 /* CL_PLATFORM_NOT_FOUND_KHR: the ICD loader found no driver */ || np == 0) return {};
@@ -111,10 +131,15 @@ std::vector<DeviceInfo> list_devices() {
       info.global_mem_bytes = device_value<cl_ulong>(d, CL_DEVICE_GLOBAL_MEM_SIZE);
       info.max_alloc_bytes = device_value<cl_ulong>(d, CL_DEVICE_MAX_MEM_ALLOC_SIZE);
       info.max_work_group_size = device_value<std::size_t>(d, CL_DEVICE_MAX_WORK_GROUP_SIZE);
+      info.local_mem_bytes = device_value<cl_ulong>(d, CL_DEVICE_LOCAL_MEM_SIZE);
       info.opencl_c_version = device_string(d, CL_DEVICE_OPENCL_C_VERSION);
       const std::string ext = device_string(d, CL_DEVICE_EXTENSIONS);
       info.float_atomics = has_extension(ext, "cl_ext_float_atomics");
       info.fp16 = has_extension(ext, "cl_khr_fp16");
+      info.int64_atomics = has_extension(ext, "cl_khr_int64_base_atomics");
+      info.sub_groups = has_extension(ext, "cl_khr_subgroups") || has_extension(ext, "cl_intel_subgroups");
+      info.simulator = lower(info.platform_name).find("oclgrind") != std::string::npos;
+      if (emulate_nvidia) emulate_nvidia_limits(info);
       out.push_back(std::move(info));
     }
   }
@@ -145,10 +170,13 @@ DeviceInfo select_device(const std::vector<DeviceInfo>& devices, const std::stri
   if (spec.empty()) {
     for (const DeviceType type : {DeviceType::Gpu, DeviceType::Cpu}) {
       for (const auto& d : devices)
-        if (d.type == type) matches.push_back(&d);
+        if (d.type == type && !d.simulator) matches.push_back(&d);
       if (!matches.empty()) return pick();
     }
-    return devices[nth % devices.size()];
+    for (const auto& d : devices)
+      if (!d.simulator) matches.push_back(&d);
+    if (!matches.empty()) return pick();
+    return fail("no OpenCL device but a simulator (name it, e.g. --device oclgrind, to run on it)");
   }
   if (const auto idx = parse_indices(spec)) {
     for (const auto& d : devices)

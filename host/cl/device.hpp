@@ -3,7 +3,12 @@
 //   "P:D"      platform and device indices, as `clradiosity devices` prints them;
 //   otherwise  a case-insensitive substring of the platform name or vendor, the device name or its type
 //              ("pocl" matches PoCL's vendor "The pocl project"; "nvidia", "cpu", "gpu").
-// No spec (and no CLRADIOSITY_DEVICE): the first GPU, else the first CPU, else the first device.
+// No spec (and no CLRADIOSITY_DEVICE): the first GPU, else the first CPU, else the first device — never a
+// simulator (Oclgrind reports itself as a GPU but interprets every work-item; it is for checking kernels, and only
+// a spec that names it selects it).
+// CLRADIOSITY_EMULATE_LIMITS=nvidia clamps what every device reports to an NVIDIA GPU's OpenCL limits (work-group
+// 1024, local memory 48 KiB, max allocation ¼ of global memory, no fp16, no float atomics, no sub-groups), so the
+// host's choices and launch checks can be exercised on a CPU device (docs/nvidia.md).
 #include <CL/cl.h>
 
 #include <cstdint>
@@ -30,17 +35,26 @@ struct DeviceInfo {
   std::uint64_t global_mem_bytes = 0;
   std::uint64_t max_alloc_bytes = 0;
   std::size_t max_work_group_size = 0;
+  std::uint64_t local_mem_bytes = 0;
   std::string opencl_c_version;
   bool float_atomics = false;  // cl_ext_float_atomics; otherwise kernels use CAS loops (docs/design.md §5)
   bool fp16 = false;           // cl_khr_fp16
+  bool int64_atomics = false;  // cl_khr_int64_base_atomics: hash-grid gradients in fixed point (docs/design.md §5)
+  bool sub_groups = false;     // cl_khr_subgroups or cl_intel_subgroups (no kernel relies on them)
+  bool simulator = false;      // Oclgrind: never the default device
+  std::string emulated;        // "nvidia" when CLRADIOSITY_EMULATE_LIMITS clamped the figures above
 
   std::string spec() const { return std::to_string(platform_index) + ":" + std::to_string(device_index); }
   // One line for listings and error messages: "0:0  Portable Computing Language / pthread-... (cpu)".
   std::string describe() const;
 };
 
-// Every device of every platform. An absent ICD (no platforms) yields an empty list, not an error.
+// Every device of every platform, clamped by CLRADIOSITY_EMULATE_LIMITS when it is set (an unknown value throws
+// InputError). An absent ICD (no platforms) yields an empty list, not an error.
 std::vector<DeviceInfo> list_devices();
+
+// Clamps `device` to NVIDIA's OpenCL limits (what CLRADIOSITY_EMULATE_LIMITS=nvidia applies).
+void emulate_nvidia_limits(DeviceInfo& device);
 
 // Resolves SPEC (empty: CLRADIOSITY_DEVICE, then the default rule) against `devices`: the first match, or with
 // `nth` the nth of the matches round-robin (an MPI rank passes its local rank; "P:D" pins one device).

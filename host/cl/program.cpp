@@ -17,14 +17,16 @@ std::string build_log(cl_program program, cl_device_id device) {
 
 }  // namespace
 
-Program::Program(const Context& ctx, const std::vector<std::string>& files, const std::string& options) : ctx_(&ctx) {
-  // #line keeps compiler messages pointing at the right file and line of each concatenated source.
+std::string compose_source(const std::vector<std::string>& files) {
   std::string source;
+  for (const auto& f : files) source += "#line 1 \"" + f + "\"\n" + kernel_source(f) + "\n";
+  return source;
+}
+
+Program::Program(const Context& ctx, const std::vector<std::string>& files, const std::string& options) : ctx_(&ctx) {
+  const std::string source = compose_source(files);
   std::string names;
-  for (const auto& f : files) {
-    source += "#line 1 \"" + f + "\"\n" + kernel_source(f) + "\n";
-    names += (names.empty() ? "" : ", ") + f;
-  }
+  for (const auto& f : files) names += (names.empty() ? "" : ", ") + f;
   const char* text = source.c_str();
   const std::size_t length = source.size();
   cl_int status = CL_SUCCESS;

@@ -11,6 +11,10 @@ namespace clr::cl {
 
 class Context;
 
+// The source a program of these kernel files is built from: each file after a #line directive naming it (so
+// compiler messages point at the right file and line), in order. Tests compile the same text for other targets.
+std::string compose_source(const std::vector<std::string>& files);
+
 class Program {
  public:
   // Builds from kernel files; throws cl::Error(CL_BUILD_PROGRAM_FAILURE) whose message holds the build log.

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "nn/checkpoint.hpp"
+#include "nn/programs.hpp"
 
 namespace clr::distributed {
 namespace {
@@ -19,8 +20,8 @@ std::uint32_t u32(std::size_t v) { return std::uint32_t(v); }
 
 GradientExchange::GradientExchange(cl::Context& ctx, const Communicator& comm) : ctx_(&ctx), comm_(&comm) {
   if (!comm.distributed()) return;
-  const auto& f = ctx.program({"exchange.cl"}, "-DGRAD_T=float");
-  const auto& l = ctx.program({"exchange.cl"}, "-DGRAD_T=long");
+  const auto& f = ctx.program(nn::programs::exchange, nn::programs::exchange_options(false));
+  const auto& l = ctx.program(nn::programs::exchange, nn::programs::exchange_options(true));
   kernels_.emplace(Kernels{f.kernel("touched_bits"), f.kernel("gather_rows"), f.kernel("scatter_rows"),
                            l.kernel("gather_rows"), l.kernel("scatter_rows")});
 }

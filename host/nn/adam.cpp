@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "nn/gemm.hpp"
+#include "nn/programs.hpp"
 
 namespace clr::nn {
 
@@ -19,9 +20,9 @@ Adam::Adam(cl::Context& ctx, std::size_t count, AdamConfig config)
       m_(ctx, count),
       v_(ctx, count),
       non_finite_(ctx, 1),
-      dense_(ctx.program({"atomics.cl", "adam.cl"}).kernel("adam_step")),
-      sparse_(ctx.program({"atomics.cl", "adam.cl"}).kernel("adam_step_sparse")),
-      sparse_fixed_(ctx.program({"atomics.cl", "adam.cl"}).kernel("adam_step_sparse_fixed")) {
+      dense_(ctx.program(programs::adam).kernel("adam_step")),
+      sparse_(ctx.program(programs::adam).kernel("adam_step_sparse")),
+      sparse_fixed_(ctx.program(programs::adam).kernel("adam_step_sparse_fixed")) {
   m_.fill(0.0f);
   v_.fill(0.0f);
   non_finite_.fill(0u);

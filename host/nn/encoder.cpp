@@ -5,14 +5,15 @@
 
 #include "common/error.hpp"
 #include "nn/gemm.hpp"
+#include "nn/programs.hpp"
 
 namespace clr::nn {
 
 Encoder::Encoder(cl::Context& ctx, EncoderConfig config, AdamConfig grid_adam, std::uint64_t seed)
     : ctx_(&ctx),
       config_(config),
-      sh_(ctx.program({"sh.cl"}).kernel("sh_forward")),
-      copy_(ctx.program({"sh.cl"}).kernel("copy_columns")) {
+      sh_(ctx.program(programs::sh).kernel("sh_forward")),
+      copy_(ctx.program(programs::sh).kernel("copy_columns")) {
   if (config_.grid) grid_.emplace(ctx, *config_.grid, grid_adam, seed);
   outputs_ = (grid_ ? grid_->outputs() : 0) + (config_.sh_direction ? 16 : 0) + (config_.sh_normal ? 16 : 0) +
              (config_.albedo ? 3 : 0) + (config_.roughness ? 1 : 0);

@@ -9,6 +9,7 @@
 
 #include "common/error.hpp"
 #include "nn/probe_cache.hpp"
+#include "nn/programs.hpp"
 
 namespace clr::nn {
 namespace {
@@ -78,8 +79,7 @@ Gemm::Gemm(cl::Context& ctx, GemmChoice choice) : Gemm(ctx, choose_gemm_plan(ctx
 
 Gemm::Gemm(cl::Context& ctx, const GemmPlan& plan) : ctx_(&ctx), plan_(plan) {
   const auto& t = plan.tile;
-  const auto& program = ctx.program(
-      {"gemm.cl"}, "-DTM=" + std::to_string(t.tm) + " -DVW=" + std::to_string(t.vw) + " -DNV=" + std::to_string(t.nv));
+  const auto& program = ctx.program(programs::gemm, programs::gemm_options(t.tm, t.vw, t.nv));
   gemm_.emplace(program.kernel("gemm_own"));
   reduce_.emplace(program.kernel("gemm_reduce_slices"));
   transpose_.emplace(program.kernel("transpose"));

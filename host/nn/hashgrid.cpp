@@ -6,22 +6,17 @@
 
 #include "common/error.hpp"
 #include "nn/gemm.hpp"
+#include "nn/programs.hpp"
 
 namespace clr::nn {
 namespace {
 
-bool has_int64_atomics(const cl::Context& ctx) {
-  std::size_t n = 0;
-  CLR_CL_CHECK(clGetDeviceInfo(ctx.device().device, CL_DEVICE_EXTENSIONS, 0, nullptr, &n));
-  std::string ext(n, '\0');
-  CLR_CL_CHECK(clGetDeviceInfo(ctx.device().device, CL_DEVICE_EXTENSIONS, n, ext.data(), nullptr));
-  return (" " + std::string(ext.c_str()) + " ").find(" cl_khr_int64_base_atomics ") != std::string::npos;
+bool use_fixed(const cl::Context& ctx, const HashGridConfig& c) {
+  return c.deterministic && ctx.device().int64_atomics;
 }
 
-bool use_fixed(const cl::Context& ctx, const HashGridConfig& c) { return c.deterministic && has_int64_atomics(ctx); }
-
 std::string options(const cl::Context& ctx, const HashGridConfig& c) {
-  return "-DF=" + std::to_string(c.features) + (use_fixed(ctx, c) ? " -DFIXED_POINT_GRAD" : "");
+  return programs::hashgrid_options(unsigned(c.features), use_fixed(ctx, c));
 }
 
 std::size_t table_entries(const HashGridConfig& c) {
@@ -67,8 +62,8 @@ HashGrid::HashGrid(cl::Context& ctx, HashGridConfig config, AdamConfig adam, std
       grad_fixed_(ctx, fixed_ ? table_.size() : 0),
       touched_(ctx, table_entries(config)),
       adam_(ctx, table_.size(), adam),
-      forward_(ctx.program({"atomics.cl", "hashgrid.cl"}, options(ctx, config)).kernel("hashgrid_forward")),
-      backward_(ctx.program({"atomics.cl", "hashgrid.cl"}, options(ctx, config)).kernel("hashgrid_backward")) {
+      forward_(ctx.program(programs::hashgrid, options(ctx, config)).kernel("hashgrid_forward")),
+      backward_(ctx.program(programs::hashgrid, options(ctx, config)).kernel("hashgrid_backward")) {
   std::vector<cl_uint4> info(levels_.size());
   for (std::size_t l = 0; l < levels_.size(); ++l)
     info[l] = cl_uint4{{levels_[l].resolution, levels_[l].dense ? 1u : 0u, levels_[l].offset, levels_[l].entries}};

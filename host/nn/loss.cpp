@@ -1,11 +1,12 @@
 #include "nn/loss.hpp"
 
 #include "nn/gemm.hpp"
+#include "nn/programs.hpp"
 
 namespace clr::nn {
 
 Loss::Loss(cl::Context& ctx)
-    : total_(ctx, 1), non_finite_(ctx, 1), kernel_(ctx.program({"atomics.cl", "loss.cl"}).kernel("loss_l2")) {
+    : total_(ctx, 1), non_finite_(ctx, 1), kernel_(ctx.program(programs::loss).kernel("loss_l2")) {
   total_.fill(0.0f);
   non_finite_.fill(0u);
 }

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "nn/probe_cache.hpp"
+#include "nn/programs.hpp"
 
 namespace clr::nn {
 namespace {
@@ -16,10 +17,10 @@ Mlp::Mlp(cl::Context& ctx, Gemm& gemm, MlpConfig config, std::uint64_t seed)
     : ctx_(&ctx),
       gemm_(&gemm),
       config_(config),
-      act_backward_(ctx.program({"mlp.cl"}).kernel("act_backward_bias_grad")),
-      bias_reduce_(ctx.program({"mlp.cl"}).kernel("bias_grad_reduce")),
-      abs_(ctx.program({"mlp.cl"}).kernel("abs_f32")),
-      scale_(ctx.program({"mlp.cl"}).kernel("scale_f32")) {
+      act_backward_(ctx.program(programs::mlp).kernel("act_backward_bias_grad")),
+      bias_reduce_(ctx.program(programs::mlp).kernel("bias_grad_reduce")),
+      abs_(ctx.program(programs::mlp).kernel("abs_f32")),
+      scale_(ctx.program(programs::mlp).kernel("scale_f32")) {
   if (config_.inputs == 0 || config_.width == 0 || config_.outputs == 0)
     throw std::invalid_argument("mlp: inputs, width and outputs must be positive");
   std::size_t total = 0;
@@ -38,12 +39,11 @@ Mlp::Mlp(cl::Context& ctx, Gemm& gemm, MlpConfig config, std::uint64_t seed)
   }
   params_ = cl::Buffer<float>(ctx, std::span<const float>(host));
   const auto& c = config_;
-  if (c.small_path != MlpConfig::SmallPath::Layers && c.width % 16 == 0 && c.width <= 64 && c.outputs % 16 == 0 &&
-      c.outputs <= 64 && c.hidden_layers >= 1 && c.hidden_layers <= 4 &&
+  if (c.small_path != MlpConfig::SmallPath::Layers && programs::mlp_fused_fits(c.width, c.hidden_layers, c.outputs) &&
       c.output_activation == OutputActivation::None) {
-    const std::string options = "-DIN=" + std::to_string(c.inputs) + " -DWIDTH=" + std::to_string(c.width) +
-                                " -DHIDDEN=" + std::to_string(c.hidden_layers) + " -DOUT=" + std::to_string(c.outputs);
-    fused_.emplace(ctx.program({"mlp_fused.cl"}, options).kernel("mlp_fused_forward"));
+    const std::string options = programs::mlp_fused_options(unsigned(c.inputs), unsigned(c.width),
+                                                            unsigned(c.hidden_layers), unsigned(c.outputs));
+    fused_.emplace(ctx.program(programs::mlp_fused, options).kernel("mlp_fused_forward"));
   }
   grads_ = cl::Buffer<float>(ctx, total);
   grads_.fill(0.0f);

@@ -14,6 +14,7 @@
 #include "common/stop_signal.hpp"
 #include "distributed/share.hpp"
 #include "nn/checkpoint.hpp"
+#include "nn/programs.hpp"
 #include "radiosity/guide/i_module.hpp"
 #include "radiosity/radiance_scale.hpp"
 #include "radiosity/scene_inputs.hpp"
@@ -47,7 +48,7 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
       loss_(ctx),
       incident_(ctx),
       non_finite_(ctx, 1),
-      rhs_kernel_(ctx.program({"radiosity.cl"}).kernel("incident_rhs")),
+      rhs_kernel_(ctx.program(nn::programs::radiosity).kernel("incident_rhs")),
       exchange_(ctx, ranks) {
   if (ranks.rank() != 0) {
     // Rank 0's config and networks arrive in share_rank0_state.

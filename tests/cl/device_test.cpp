@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <optional>
+#include <string>
 
 #include "common/error.hpp"
 
@@ -29,8 +31,19 @@ DeviceInfo fake(unsigned p, unsigned d, std::string platform, std::string name, 
 
 class DeviceSpecTest : public ::testing::Test {
  protected:
-  void SetUp() override { unsetenv("CLRADIOSITY_DEVICE"); }
-  void TearDown() override { unsetenv("CLRADIOSITY_DEVICE"); }
+  // The variable is restored, not cleared: a test lane may set it (the Oclgrind lane names its simulator), and
+  // the shared test context may be created after these tests ran.
+  void SetUp() override {
+    if (const char* env = std::getenv("CLRADIOSITY_DEVICE")) saved_ = env;
+    unsetenv("CLRADIOSITY_DEVICE");
+  }
+  void TearDown() override {
+    if (saved_)
+      setenv("CLRADIOSITY_DEVICE", saved_->c_str(), 1);
+    else
+      unsetenv("CLRADIOSITY_DEVICE");
+  }
+  std::optional<std::string> saved_;
   std::vector<DeviceInfo> devices = {fake(0, 0, "Portable Computing Language", "pthread-skylake", DeviceType::Cpu),
                                      fake(1, 0, "NVIDIA CUDA", "NVIDIA H100 80GB HBM3", DeviceType::Gpu),
                                      fake(1, 1, "NVIDIA CUDA", "NVIDIA A100", DeviceType::Gpu)};
@@ -102,6 +115,61 @@ TEST_F(DeviceSpecTest, BadEnvironmentSpecNamesTheVariable) {
 
 TEST_F(DeviceSpecTest, NoDevicesIsAnInputError) { EXPECT_THROW(select_device({}, ""), InputError); }
 
+TEST_F(DeviceSpecTest, DefaultNeverPicksASimulator) {
+  // Oclgrind reports itself as a GPU; listed first, it must still lose to the real CPU.
+  auto sim = fake(2, 0, "Oclgrind", "Oclgrind Simulator", DeviceType::Gpu);
+  sim.simulator = true;
+  std::vector<DeviceInfo> with_sim = {sim, devices[0]};
+  EXPECT_EQ(select_device(with_sim, "").spec(), "0:0");
+  EXPECT_EQ(select_device(with_sim, "", 1).spec(), "0:0") << "round-robin over real devices only";
+  EXPECT_EQ(select_device(with_sim, "oclgrind").spec(), "2:0") << "naming it selects it";
+  try {
+    select_device({sim}, "");
+    ADD_FAILURE() << "the simulator alone was picked by default";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), AllOf(HasSubstr("simulator"), HasSubstr("Oclgrind")));
+  }
+}
+
+TEST(DeviceLimits, NvidiaEmulationClampsWhatTheDeviceReports) {
+  DeviceInfo d = fake(0, 0, "Portable Computing Language", "pthread-skylake", DeviceType::Cpu);
+  d.max_work_group_size = 4096;
+  d.local_mem_bytes = 4u << 20;
+  d.global_mem_bytes = 16ull << 30;
+  d.max_alloc_bytes = 8ull << 30;
+  d.fp16 = d.float_atomics = d.sub_groups = d.int64_atomics = true;
+  emulate_nvidia_limits(d);
+  EXPECT_EQ(d.max_work_group_size, 1024u);
+  EXPECT_EQ(d.local_mem_bytes, 48u * 1024u);
+  EXPECT_EQ(d.max_alloc_bytes, 4ull << 30);
+  EXPECT_FALSE(d.fp16);
+  EXPECT_FALSE(d.float_atomics);
+  EXPECT_FALSE(d.sub_groups);
+  EXPECT_TRUE(d.int64_atomics) << "NVIDIA has cl_khr_int64_base_atomics";
+  EXPECT_THAT(d.describe(), HasSubstr("[nvidia limits]"));
+  // Smaller figures stay as they are: emulation only clamps.
+  DeviceInfo small = fake(0, 0, "p", "n", DeviceType::Cpu);
+  small.max_work_group_size = 256;
+  small.local_mem_bytes = 32 * 1024;
+  small.global_mem_bytes = 1ull << 30;
+  small.max_alloc_bytes = 128ull << 20;
+  emulate_nvidia_limits(small);
+  EXPECT_EQ(small.max_work_group_size, 256u);
+  EXPECT_EQ(small.local_mem_bytes, 32u * 1024u);
+  EXPECT_EQ(small.max_alloc_bytes, 128ull << 20);
+}
+
+TEST(DeviceLimits, UnknownEmulationIsAnInputError) {
+  const char* before = std::getenv("CLRADIOSITY_EMULATE_LIMITS");
+  const std::optional<std::string> saved = before ? std::optional<std::string>(before) : std::nullopt;
+  setenv("CLRADIOSITY_EMULATE_LIMITS", "amd", 1);
+  EXPECT_THROW(list_devices(), InputError);
+  if (saved)
+    setenv("CLRADIOSITY_EMULATE_LIMITS", saved->c_str(), 1);
+  else
+    unsetenv("CLRADIOSITY_EMULATE_LIMITS");
+}
+
 TEST(DeviceList, EnumeratesRealDevices) {
   const auto devices = list_devices();
   if (devices.empty()) GTEST_SKIP() << "no OpenCL platform on this machine";
@@ -111,6 +179,13 @@ TEST(DeviceList, EnumeratesRealDevices) {
     EXPECT_GT(d.max_alloc_bytes, 0u);
     EXPECT_LE(d.max_alloc_bytes, d.global_mem_bytes);
     EXPECT_THAT(d.opencl_c_version, HasSubstr("OpenCL C"));
+    EXPECT_GT(d.max_work_group_size, 0u);
+    EXPECT_GT(d.local_mem_bytes, 0u);
+    if (d.emulated == "nvidia") {
+      EXPECT_LE(d.max_work_group_size, 1024u);
+      EXPECT_LE(d.local_mem_bytes, 48u * 1024u);
+      EXPECT_LE(d.max_alloc_bytes, d.global_mem_bytes / 4);
+    }
     EXPECT_EQ(select_device(devices, d.spec()).device, d.device);
   }
 }

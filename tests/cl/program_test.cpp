@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 #include "cl/buffer.hpp"
 #include "cl/kernel_source.hpp"
@@ -94,7 +95,38 @@ TEST_F(ClTest, OversizedWorkGroupIsRefused) {
   cl::Buffer<float> buf(ctx(), 16);
   k.args(buf, 16u, 0.0f);
   EXPECT_GT(k.work_group_size(), 0u);
-  EXPECT_THROW(k.launch(k.work_group_size() * 2, k.work_group_size() * 2), cl::Error);
+  EXPECT_LE(k.work_group_size(), ctx().device().max_work_group_size) << "capped by the device (and its emulation)";
+  try {
+    k.launch(k.work_group_size() * 2, k.work_group_size() * 2);
+    FAIL() << "a work-group twice the kernel's limit was enqueued";
+  } catch (const cl::Error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("fill_f32"));
+    EXPECT_THAT(e.what(), HasSubstr("exceeds its limit"));
+  }
+}
+
+TEST_F(ClTest, OversizedLocalMemoryIsRefusedBeforeEnqueue) {
+  auto k = ctx().program({"atomics.cl", "reduce.cl"}).kernel("sum_f32");
+  cl::Buffer<float> in(ctx(), std::span<const float>(std::vector<float>(64, 1.0f)));
+  cl::Buffer<float> total(ctx(), 1);
+  total.fill(0.0f);
+  cl::Buffer<unsigned> bad(ctx(), 1);
+  bad.fill(0u);
+  const std::uint64_t limit = ctx().device().local_mem_bytes;
+  try {
+    // Refused when the argument is set (before the driver sees it) or at the latest when launched.
+    k.args(in, 64u, total, bad, cl::LocalMemory{std::size_t(limit) + 4});
+    k.launch(64, 64);
+    FAIL() << "a launch needing more __local memory than the device has was enqueued";
+  } catch (const cl::Error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("sum_f32"));
+    EXPECT_THAT(e.what(), HasSubstr("__local"));
+  }
+  // The same kernel with what it needs runs.
+  k.args(in, 64u, total, bad, cl::LocalMemory{64 * sizeof(float)});
+  EXPECT_LE(k.local_mem_bytes(), limit);
+  k.launch(64, 64);
+  EXPECT_EQ(total.read()[0], 64.0f);
 }
 
 TEST_F(ClTest, OversizedBufferIsRefusedWithItsSize) {

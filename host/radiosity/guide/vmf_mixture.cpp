@@ -1,6 +1,7 @@
 #include "radiosity/guide/vmf_mixture.hpp"
 
 #include "nn/gemm.hpp"
+#include "nn/programs.hpp"
 
 namespace clr::radiosity {
 
@@ -12,11 +13,11 @@ VmfMixture::VmfMixture(cl::Context& ctx)
     : ctx_(&ctx),
       total_(ctx, 1),
       non_finite_(ctx, 1),
-      decode_(ctx.program({"atomics.cl", "vmf.cl", "guide.cl"}).kernel("vmf_decode")),
-      sample_(ctx.program({"atomics.cl", "vmf.cl", "guide.cl"}).kernel("vmf_sample")),
-      pdf_(ctx.program({"atomics.cl", "vmf.cl", "guide.cl"}).kernel("vmf_mixture_pdf")),
-      dlogq_(ctx.program({"atomics.cl", "vmf.cl", "guide.cl"}).kernel("vmf_dlogq")),
-      loss_(ctx.program({"atomics.cl", "vmf.cl", "guide.cl"}).kernel("guide_loss")) {
+      decode_(ctx.program(nn::programs::vmf).kernel("vmf_decode")),
+      sample_(ctx.program(nn::programs::vmf).kernel("vmf_sample")),
+      pdf_(ctx.program(nn::programs::vmf).kernel("vmf_mixture_pdf")),
+      dlogq_(ctx.program(nn::programs::vmf).kernel("vmf_dlogq")),
+      loss_(ctx.program(nn::programs::vmf).kernel("guide_loss")) {
   total_.fill(0.0f);
   non_finite_.fill(0u);
 }

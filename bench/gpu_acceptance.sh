@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# Acceptance run for a GPU (or any device) in at most about 9 minutes, no network (docs/nvidia.md):
+#
+#   bench/gpu_acceptance.sh [DEVICE] OUT_DIR
+#
+# DEVICE is a --device SPEC (default: CLRADIOSITY_DEVICE, else the default rule). Steps, each with its own time
+# limit: list the devices; run the kernel and engine tests on DEVICE (ctest labels kernel|engine, PoCL's per-test
+# entries pointed at DEVICE); bench_nn --quick; train the bundled Cornell box with ISNR for 2 minutes (the main
+# job: its MAPE against a path-traced reference); render the run at 512² and time it. Writes OUT_DIR/summary.json
+# and OUT_DIR/log.txt; the last line printed is PASS, or FAIL with the reasons. Binaries come from BUILD_DIR
+# (default build/ci, as the test command builds it). MAPE_MAX (default 0.5) bounds the 2-minute MAPE: a CPU
+# reaches about 0.2 there (docs/results/nr-training.md), so a larger one means training is broken, not slow.
+set -uo pipefail
+
+if [ $# -ge 2 ]; then
+  device=$1 out=$2
+elif [ $# -eq 1 ]; then
+  device=${CLRADIOSITY_DEVICE:-} out=$1
+else
+  echo "usage: bench/gpu_acceptance.sh [DEVICE] OUT_DIR" >&2
+  exit 2
+fi
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${BUILD_DIR:-$root/build/ci}
+clr=$build/clradiosity
+bench=$build/bench/bench_nn
+mape_max=${MAPE_MAX:-0.5}
+mkdir -p "$out" || exit 2
+out=$(cd "$out" && pwd)
+log=$out/log.txt
+: >"$log"
+[ -n "$device" ] && export CLRADIOSITY_DEVICE=$device
+reasons=()
+json_steps=""
+
+note() { echo "$*" | tee -a "$log"; }
+# step NAME LIMIT_S COMMAND...: runs COMMAND with its output in the log; records its status and seconds.
+step() {
+  local name=$1 limit=$2
+  shift 2
+  note "== $name (limit ${limit}s): $*"
+  local start=$SECONDS
+  timeout "$limit" "$@" >>"$log" 2>&1
+  local status=$?
+  local took=$((SECONDS - start))
+  note "== $name: exit $status after ${took}s"
+  json_steps+="${json_steps:+,}\"$name\": {\"exit\": $status, \"seconds\": $took}"
+  [ $status -eq 124 ] && reasons+=("$name ran past ${limit}s")
+  [ $status -ne 0 ] && [ $status -ne 124 ] && reasons+=("$name exited $status")
+  return $status
+}
+
+for f in "$clr" "$bench"; do
+  [ -x "$f" ] || { note "FAIL: $f is missing (cmake --workflow --preset ci builds it)"; exit 1; }
+done
+
+step devices 30 "$clr" devices ${device:+--device "$device"}
+device_line=$("$clr" devices ${device:+--device "$device"} 2>/dev/null | grep '^\*' | head -n 1)
+note "device: ${device_line:-none}"
+
+# PoCL's per-test entries are the kernel and engine tests; CLRADIOSITY_DEVICE points them at DEVICE.
+step tests 240 ctest --test-dir "$build" -L pocl --output-on-failure
+
+step bench_nn 90 "$bench" --quick ${device:+--device "$device"}
+
+# The main job in OUT_DIR: 2 minutes of ISNR on the bundled Cornell box, its reference and MAPE.
+mape=""
+cd "$out" || exit 2
+if step train_cornell 240 "$clr"; then
+  mape=$(grep -o 'MAPE [0-9.eE+-]*' "$log" | tail -n 1 | cut -d' ' -f2)
+fi
+cd "$root" || exit 2
+if [ -z "$mape" ]; then
+  reasons+=("no MAPE from the Cornell training")
+elif ! awk -v m="$mape" -v max="$mape_max" 'BEGIN { exit !(m == m + 0 && m <= max) }'; then
+  reasons+=("Cornell MAPE $mape above $mape_max")
+fi
+
+render_s=""
+run_dir=$out/clradiosity-out/cornell-box-run
+if [ -d "$run_dir" ]; then
+  start=$SECONDS
+  if step render_512 120 "$clr" render "$root/scenes/cornell-box.xml" --model "$run_dir" --width 512 --height 512 \
+    -o "$out/cornell-box-512.exr"; then
+    render_s=$((SECONDS - start))
+  fi
+else
+  reasons+=("no run directory to render")
+fi
+
+verdict=PASS
+[ ${#reasons[@]} -gt 0 ] && verdict=FAIL
+{
+  printf '{\n  "device": "%s",\n  "verdict": "%s",\n' "$(echo "$device_line" | sed 's/"/\\"/g')" "$verdict"
+  printf '  "cornell_isnr_2min_mape": %s,\n' "${mape:-null}"
+  printf '  "render_512_seconds": %s,\n' "${render_s:-null}"
+  printf '  "steps": {%s},\n' "$json_steps"
+  printf '  "reasons": ['
+  sep=""
+  for r in "${reasons[@]}"; do
+    printf '%s"%s"' "$sep" "$(echo "$r" | sed 's/"/\\"/g')"
+    sep=", "
+  done
+  printf ']\n}\n'
+} >"$out/summary.json"
+note "summary: $out/summary.json"
+if [ "$verdict" = PASS ]; then
+  echo "PASS"
+else
+  (IFS=';'; echo "FAIL: ${reasons[*]}")
+  exit 1
+fi
