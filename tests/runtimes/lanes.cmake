@@ -3,7 +3,7 @@
 # Groups, by gtest suite: `kernel` — the device layer and every kernel against its host twin; `engine` — training,
 # rendering and the numerical extremes built on them. PoCL runs them as one ctest entry per test (labelled here);
 # each other lane runs a group in one process, so its programs compile once:
-#   intel.*          Intel's OpenCL CPU runtime (pip wheel in a venv that .ci/install-deps makes)
+#   intel.*          Intel's OpenCL CPU runtime (pip wheel in a venv that .ci/install-intel-opencl-rt makes)
 #   nvidia_limits.*  PoCL with CLRADIOSITY_EMULATE_LIMITS=nvidia (work-group 1024, 48 KiB local, ¼ allocation, ...)
 #   oclgrind.kernel  the small kernel tests under the Oclgrind simulator with its checks on (an interpreter: the
 #                    engine tests and the GEMM tile sweep would take hours there)
@@ -59,8 +59,12 @@ function(clr_add_lane name lane where group filter timeout)
   set_tests_properties(${name} PROPERTIES LABELS "${lane_label};${group}" SKIP_RETURN_CODE 77 TIMEOUT ${timeout})
 endfunction()
 
+# The runtime is installed by the test run itself (a fixture), so the main job's build never downloads it.
+add_test(NAME intel.install COMMAND bash ${CMAKE_SOURCE_DIR}/.ci/install-intel-opencl-rt ${CLR_INTEL_OPENCL_RT})
+set_tests_properties(intel.install PROPERTIES FIXTURES_SETUP intel_rt LABELS intel TIMEOUT 900)
 clr_add_lane(intel.kernel intel ${CLR_INTEL_OPENCL_RT} kernel ${filter_kernel} 900)
 clr_add_lane(intel.engine intel ${CLR_INTEL_OPENCL_RT} engine ${filter_engine} 900)
+set_tests_properties(intel.kernel intel.engine PROPERTIES FIXTURES_REQUIRED intel_rt)
 clr_add_lane(nvidia_limits.kernel nvidia-limits - kernel ${filter_kernel} 900)
 clr_add_lane(nvidia_limits.engine nvidia-limits - engine ${filter_engine} 900)
 set(oclgrind_icd /nonexistent/liboclgrind-rt-icd.so)

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs a test binary on one OpenCL implementation (tests/runtimes/lanes.cmake adds one ctest entry per lane):
-#   run_on.sh intel    RT_DIR     WORK_DIR -- COMMAND...  Intel's CPU runtime from the venv .ci/install-deps makes
+#   run_on.sh intel    RT_DIR     WORK_DIR -- COMMAND...  Intel's CPU runtime from the venv .ci/install-intel-opencl-rt makes
 #   run_on.sh oclgrind ICD_LIBRARY WORK_DIR -- COMMAND... the Oclgrind simulator, its race, bounds, uninitialised
 #                                                         and API checks on; any report fails the run
 #   run_on.sh oclgrind-vectors ...                        the same without the uninitialised-value check
@@ -22,7 +22,7 @@ skip() {
 case "$lane" in
   intel)
     lib="$where/lib/libintelocl.so"
-    [ -f "$lib" ] || skip "Intel's OpenCL CPU runtime is not installed at $where (.ci/install-deps installs it with pip)"
+    [ -f "$lib" ] || skip "Intel's OpenCL CPU runtime is not installed at $where (.ci/install-intel-opencl-rt installs it with pip)"
     mkdir -p "$work/vendors" "$work/lib"
     # The wheel's own .icd names a placeholder path; this one names the installed library.
     echo "$lib" >"$work/vendors/intel-cpu.icd"
