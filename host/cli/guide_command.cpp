@@ -12,7 +12,7 @@
 #include "radiosity/guide/guide_view.hpp"
 #include "radiosity/run_directory.hpp"
 #include "radiosity/trained_model.hpp"
-#include "scene/scene.hpp"
+#include "scene/fingerprint.hpp"
 
 namespace clr::cli {
 namespace {
@@ -72,8 +72,9 @@ Command add_guide_command(CLI::App& app) {
               throw InputError("--pixel " + nlohmann::json(px).dump() + "," + nlohmann::json(py).dump() +
                                " is outside the " + std::to_string(width) + "×" + std::to_string(height) + " image");
             auto inputs = radiosity::RunDirectory::input_files(opt->model);
-            inputs.push_back(opt->scene);
+            inputs.insert(inputs.end(), scene.files.begin(), scene.files.end());
             require_outputs({{opt->output, "-o"}, {opt->exr, "--exr"}}, inputs);
+            radiosity::RunDirectory::require_scene(opt->model, scene::fingerprint(scene));
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
             const std::filesystem::path run = opt->model;

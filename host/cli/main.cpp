@@ -7,6 +7,7 @@
 #include "cl/error.hpp"
 #include "cli/command.hpp"
 #include "cli/failure_message.hpp"
+#include "common/digest.hpp"
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "common/stop_signal.hpp"
@@ -36,6 +37,25 @@ std::string rank_prefix() {
 // Work that a signal stopped at a safe point ends with the exit status of a process that signal ended.
 int stopped_by_signal(int code) { return code == 0 && clr::stop_signal() != 0 ? 128 + clr::stop_signal() : code; }
 
+// Set when every rank failed at the same point (JobInputError): the job ends without an abort.
+bool failed_together = false;
+
+// The command line as the ranks must share it: every argument but the device choice, which may pin each rank to
+// its own device.
+std::uint64_t command_line_digest(int argc, char** argv) {
+  clr::Digest digest;
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view arg = argv[i];
+    if (arg == "--device") {
+      ++i;
+      continue;
+    }
+    if (arg.starts_with("--device=")) continue;
+    digest.add(arg).add(std::string_view("\0", 1));
+  }
+  return digest.value();
+}
+
 int run(int argc, char** argv) {
   CLI::App app{"clradiosity: Importance-Sampling-Guided Neural Radiosity on OpenCL devices", "clradiosity"};
   app.set_version_flag("--version", std::string("clradiosity ") + CLR_VERSION);
@@ -53,6 +73,17 @@ int run(int argc, char** argv) {
   std::string command;  // names the options to lower when memory runs out
   try {
     app.parse(argc, argv);
+    const auto& ranks = clr::distributed::Communicator::world();
+    if (ranks.distributed()) {
+      const CLI::App* parsed = nullptr;
+      for (const auto& c : commands)
+        if (c.app->parsed()) parsed = c.app;
+      const std::string name = parsed ? parsed->get_name() : "the main job";
+      if (name != "train" && name != "reference")
+        throw clr::distributed::JobInputError(
+            name + " runs in one process: start it without mpirun (train and reference use MPI)");
+      ranks.require_same("the command lines", command_line_digest(argc, argv));
+    }
     for (const auto& c : commands)
       if (c.app->parsed()) {
         if (!preset.empty())
@@ -70,6 +101,11 @@ int run(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::cerr << "clradiosity: error: " << rank_prefix() << e.what() << " (see --help)\n";
     return 2;
+  } catch (const clr::distributed::JobInputError& e) {
+    // Every rank knows; rank 0 says it once.
+    failed_together = true;
+    if (clr::distributed::Communicator::world().rank() == 0) std::cerr << "clradiosity: error: " << e.what() << "\n";
+    return 2;
   } catch (const clr::InputError& e) {
     std::cerr << "clradiosity: error: " << rank_prefix() << e.what() << "\n";
     return 2;
@@ -85,5 +121,6 @@ int main(int argc, char** argv) {
   // MPI starts before the OpenCL runtime's threads do, and only under mpirun (Communicator::world).
   auto& ranks = clr::distributed::Communicator::world();
   if (ranks.rank() != 0) clr::Progress::silence_process();
-  return ranks.finish(run(argc, argv));
+  const int code = run(argc, argv);
+  return ranks.finish(code, failed_together);
 }

@@ -5,10 +5,11 @@
 #include "cli/command.hpp"
 #include "cli/number_checks.hpp"
 #include "common/atomic_file.hpp"
+#include "common/digest.hpp"
 #include "distributed/image_rows.hpp"
 #include "geometry/geometry.hpp"
 #include "reference/path_tracer.hpp"
-#include "scene/scene.hpp"
+#include "scene/fingerprint.hpp"
 
 namespace clr::cli {
 
@@ -36,8 +37,10 @@ Command add_reference_command(CLI::App& app) {
       cmd, [opt]() {
         // Under mpirun the ranks share the rows and rank 0 alone writes the image.
         const auto& ranks = distributed::Communicator::world();
-        if (ranks.rank() == 0) require_outputs({{opt->output, "-o"}}, {opt->scene});
         const scene::Scene scene = scene::load_scene(opt->scene);
+        ranks.require_same("the scenes (the contents of their files)",
+                           Digest().add(scene::fingerprint(scene).digest).value());
+        if (ranks.rank() == 0) require_outputs({{opt->output, "-o"}}, scene.files);
         scene::require_sensor(scene, opt->scene);
         scene::require_emitter(scene, opt->scene);
         const geometry::Geometry geometry(scene);

@@ -14,7 +14,7 @@
 #include "image/image.hpp"
 #include "radiosity/run_directory.hpp"
 #include "radiosity/trained_model.hpp"
-#include "scene/scene.hpp"
+#include "scene/fingerprint.hpp"
 
 namespace clr::cli {
 
@@ -48,10 +48,12 @@ Command add_render_command(CLI::App& app) {
   return {cmd, [opt]() {
             if (!opt->reference.empty() && opt->error_map.empty())
               opt->error_map = std::filesystem::path(opt->output).replace_extension().string() + "_error.png";
-            auto inputs = radiosity::RunDirectory::input_files(opt->model);
-            inputs.insert(inputs.end(), {opt->scene, opt->reference});
-            require_outputs({{opt->output, "-o"}, {opt->png, "--png"}, {opt->error_map, "--error-map"}}, inputs);
             auto scene = scene::load_scene(opt->scene);
+            auto inputs = radiosity::RunDirectory::input_files(opt->model);
+            inputs.insert(inputs.end(), scene.files.begin(), scene.files.end());
+            inputs.push_back(opt->reference);
+            require_outputs({{opt->output, "-o"}, {opt->png, "--png"}, {opt->error_map, "--error-map"}}, inputs);
+            radiosity::RunDirectory::require_scene(opt->model, scene::fingerprint(scene));
             if (opt->camera.empty()) scene::require_sensor(scene, opt->scene);
             if (!opt->camera.empty()) {
               const auto& c = opt->camera;

@@ -11,7 +11,7 @@
 #include "radiosity/run_directory.hpp"
 #include "radiosity/train_config.hpp"
 #include "radiosity/trained_model.hpp"
-#include "scene/scene.hpp"
+#include "scene/fingerprint.hpp"
 
 namespace clr::cli {
 
@@ -41,6 +41,7 @@ Command add_residual_command(CLI::App& app) {
   return {cmd, [opt]() {
             const auto scene = scene::load_scene(opt->scene);
             scene::require_trainable(scene, opt->scene);
+            radiosity::RunDirectory::require_scene(opt->model, scene::fingerprint(scene));
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
             const std::filesystem::path model = opt->model;

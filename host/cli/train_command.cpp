@@ -11,6 +11,7 @@
 #include "cl/context.hpp"
 #include "cli/command.hpp"
 #include "cli/number_checks.hpp"
+#include "common/digest.hpp"
 #include "common/error.hpp"
 #include "common/input_file.hpp"
 #include "distributed/communicator.hpp"
@@ -18,7 +19,7 @@
 #include "radiosity/preset.hpp"
 #include "radiosity/run_directory.hpp"
 #include "radiosity/trainer.hpp"
-#include "scene/scene.hpp"
+#include "scene/fingerprint.hpp"
 
 namespace clr::cli {
 namespace {
@@ -72,7 +73,7 @@ Command add_train_command(CLI::App& app) {
     long steps = 0;
     double minutes = 0, learning_rate = 0, bsdf_fraction = 0, guide_learning_rate = 0;
     std::uint64_t seed = 0;
-    bool resume = false;
+    bool resume = false, other_scene = false;
   };
   auto opt = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("train", "Train a Neural Radiosity model of a scene into RUN_DIR");
@@ -106,7 +107,11 @@ Command add_train_command(CLI::App& app) {
       ->check(CLI::IsMember({"relative", "l2"}));
   cmd->add_option("--gemm", opt->gemm, "Matrix-product backend: auto (timed probe, cached), own, clblast")
       ->check(CLI::IsMember({"auto", "own", "clblast"}));
-  cmd->add_option("--config", opt->config_file, "Training settings (JSON); flags override it");
+  auto* config_file = cmd->add_option("--config", opt->config_file, "Training settings (JSON); flags override it");
+  cmd->add_flag("--other-scene", opt->other_scene,
+                "With --config RUN/config.json: take the settings of a run of another scene (its bounding box "
+                "and inputs are recomputed for this one)")
+      ->needs(config_file);
   auto* resume = cmd->add_flag("--resume", opt->resume, "Continue the run in RUN_DIR from its checkpoint");
   cmd->add_option("--preset", opt->preset,
                   "preview, balanced or quality: batch, N, width and hash-table size picked for that budget, this "
@@ -115,73 +120,84 @@ Command add_train_command(CLI::App& app) {
       ->excludes(resume);
   add_device_option(*cmd, opt->device);
 
-  return {cmd, [opt, cmd]() {
-            radiosity::TrainConfig config;
-            if (!opt->config_file.empty()) config = radiosity::load_train_config(opt->config_file);
-            // Flags given on the command line override the config file and the preset, whatever their value
-            // (validate() judges); they are applied before the scene loads, to fail fast, and again over a preset.
-            const auto given = [&](const char* flag) { return cmd->count(flag) > 0; };
-            const auto apply_flags = [&] {
-              if (!opt->method.empty()) config.method = radiosity::parse_method(opt->method, "--method");
-              if (!opt->residual.empty()) config.residual = radiosity::parse_residual(opt->residual, "--residual");
-              if (!opt->is_loss.empty()) config.is_loss = radiosity::parse_is_loss(opt->is_loss, "--is-loss");
-              if (given("--samples")) config.samples = opt->samples;
-              if (given("--batch")) config.batch = opt->batch;
-              if (given("--steps")) config.steps = opt->steps;
-              if (given("--minutes")) config.minutes = opt->minutes;
-              if (given("--seed")) config.seed = opt->seed;
-              if (given("--learning-rate")) config.network["adam"]["learning_rate"] = opt->learning_rate;
-              if (given("--bsdf-fraction")) config.bsdf_fraction = opt->bsdf_fraction;
-              if (given("--guide-learning-rate")) config.guide["adam"]["learning_rate"] = opt->guide_learning_rate;
-              if (!opt->gemm.empty()) config.network["gemm"] = opt->gemm;
-              config.validate();
-            };
-            apply_flags();
-            if (opt->resume) {
-              if (!opt->config_file.empty())
-                throw InputError("--config with --resume: a resumed run's settings are its own config.json");
-              if (std::filesystem::exists(radiosity::RunDirectory::config_path(opt->run_dir)))
-                require_same_settings(config, radiosity::RunDirectory::load_config(opt->run_dir), given);
-            }
-            if (config.steps == 0 && config.minutes == 0 && opt->preset.empty())
-              throw InputError("give a budget: --steps S or --minutes T (or a --preset)");
+  return {
+      cmd, [opt, cmd]() {
+        radiosity::TrainConfig config;
+        if (!opt->config_file.empty()) config = radiosity::load_train_config(opt->config_file);
+        // Flags given on the command line override the config file and the preset, whatever their value
+        // (validate() judges); they are applied before the scene loads, to fail fast, and again over a preset.
+        const auto given = [&](const char* flag) { return cmd->count(flag) > 0; };
+        const auto apply_flags = [&] {
+          if (!opt->method.empty()) config.method = radiosity::parse_method(opt->method, "--method");
+          if (!opt->residual.empty()) config.residual = radiosity::parse_residual(opt->residual, "--residual");
+          if (!opt->is_loss.empty()) config.is_loss = radiosity::parse_is_loss(opt->is_loss, "--is-loss");
+          if (given("--samples")) config.samples = opt->samples;
+          if (given("--batch")) config.batch = opt->batch;
+          if (given("--steps")) config.steps = opt->steps;
+          if (given("--minutes")) config.minutes = opt->minutes;
+          if (given("--seed")) config.seed = opt->seed;
+          if (given("--learning-rate")) config.network["adam"]["learning_rate"] = opt->learning_rate;
+          if (given("--bsdf-fraction")) config.bsdf_fraction = opt->bsdf_fraction;
+          if (given("--guide-learning-rate")) config.guide["adam"]["learning_rate"] = opt->guide_learning_rate;
+          if (!opt->gemm.empty()) config.network["gemm"] = opt->gemm;
+          config.validate();
+        };
+        apply_flags();
+        if (opt->resume) {
+          if (!opt->config_file.empty())
+            throw InputError("--config with --resume: a resumed run's settings are its own config.json");
+          if (std::filesystem::exists(radiosity::RunDirectory::config_path(opt->run_dir)))
+            require_same_settings(config, radiosity::RunDirectory::load_config(opt->run_dir), given);
+        }
+        if (config.steps == 0 && config.minutes == 0 && opt->preset.empty())
+          throw InputError("give a budget: --steps S or --minutes T (or a --preset)");
 
-            const auto scene = scene::load_scene(opt->scene);
-            scene::require_emitter(scene, opt->scene);
-            scene::require_trainable(scene, opt->scene);
-            const geometry::Geometry geometry(scene);
-            // Under mpirun each rank takes the next of the matching devices on its machine; rank 0 alone writes.
-            const auto& ranks = distributed::Communicator::world();
-            cl::Context ctx(cl::select_device(opt->device, unsigned(ranks.local_rank())));
-            if (!opt->preset.empty()) {
-              const geometry::SurfaceSampler sampler(scene);
-              const auto why = radiosity::apply_preset(opt->preset, config, radiosity::scene_inputs(geometry, sampler),
-                                                       ctx.device());
-              if (ranks.rank() == 0)
-                for (const auto& line : why) std::cerr << "preset " << opt->preset << ": " << line << "\n";
-              apply_flags();
-            }
-            radiosity::Trainer trainer(ctx, geometry, config, opt->run_dir, opt->resume, ranks);
-            const auto first_step = trainer.steps_done();
-            if (ranks.rank() != 0) {
-              trainer.run();
-              return 0;
-            }
-            std::cerr << "train: " << opt->scene << " on " << ctx.device().describe() << ", "
-                      << radiosity::to_string(trainer.config().method) << ", batch " << trainer.config().batch << " × "
-                      << trainer.config().samples << " samples, " << trainer.network().parameter_count()
-                      << " parameters";
-            if (auto* guide = trainer.guide())
-              std::cerr << " + I-Module " << guide->parameter_count() << " ("
-                        << radiosity::to_string(trainer.config().is_loss) << ", BSDF share "
-                        << trainer.config().bsdf_fraction << ")";
-            if (ranks.distributed()) std::cerr << ", " << ranks.size() << " MPI ranks";
-            std::cerr << "\n";
-            trainer.run();
-            if (ranks.distributed()) print_exchange(trainer.exchange().stats(), trainer.steps_done() - first_step);
-            std::cout << "model: " << opt->run_dir << "/model.clr (" << trainer.steps_done() << " steps)\n";
-            return 0;
-          }};
+        const auto scene = scene::load_scene(opt->scene);
+        const auto& ranks = distributed::Communicator::world();
+        ranks.require_same("the scenes (the contents of their files)",
+                           Digest().add(scene::fingerprint(scene).digest).value());
+        ranks.require_same("the settings (--config and flags)", Digest().add(nlohmann::json(config).dump()).value());
+        scene::require_emitter(scene, opt->scene);
+        scene::require_trainable(scene, opt->scene);
+        // A run's config.json holds the networks of its scene (bounding box, inputs): reusing it for another
+        // scene is a deliberate act.
+        const std::filesystem::path config_run = std::filesystem::path(opt->config_file).parent_path();
+        if (!opt->config_file.empty() && !opt->other_scene &&
+            std::filesystem::path(opt->config_file).filename() == "config.json" &&
+            std::filesystem::exists(radiosity::RunDirectory::scene_path(config_run)))
+          radiosity::RunDirectory::require_scene(config_run, scene::fingerprint(scene));
+        if (opt->other_scene) config.forget_scene();
+        const geometry::Geometry geometry(scene);
+        // Under mpirun each rank takes the next of the matching devices on its machine; rank 0 alone writes.
+        cl::Context ctx(cl::select_device(opt->device, unsigned(ranks.local_rank())));
+        if (!opt->preset.empty()) {
+          const geometry::SurfaceSampler sampler(scene);
+          const auto why =
+              radiosity::apply_preset(opt->preset, config, radiosity::scene_inputs(geometry, sampler), ctx.device());
+          if (ranks.rank() == 0)
+            for (const auto& line : why) std::cerr << "preset " << opt->preset << ": " << line << "\n";
+          apply_flags();
+        }
+        radiosity::Trainer trainer(ctx, geometry, config, opt->run_dir, opt->resume, ranks);
+        const auto first_step = trainer.steps_done();
+        if (ranks.rank() != 0) {
+          trainer.run();
+          return 0;
+        }
+        std::cerr << "train: " << opt->scene << " on " << ctx.device().describe() << ", "
+                  << radiosity::to_string(trainer.config().method) << ", batch " << trainer.config().batch << " × "
+                  << trainer.config().samples << " samples, " << trainer.network().parameter_count() << " parameters";
+        if (auto* guide = trainer.guide())
+          std::cerr << " + I-Module " << guide->parameter_count() << " ("
+                    << radiosity::to_string(trainer.config().is_loss) << ", BSDF share "
+                    << trainer.config().bsdf_fraction << ")";
+        if (ranks.distributed()) std::cerr << ", " << ranks.size() << " MPI ranks";
+        std::cerr << "\n";
+        trainer.run();
+        if (ranks.distributed()) print_exchange(trainer.exchange().stats(), trainer.steps_done() - first_step);
+        std::cout << "model: " << opt->run_dir << "/model.clr (" << trainer.steps_done() << " steps)\n";
+        return 0;
+      }};
 }
 
 }  // namespace clr::cli

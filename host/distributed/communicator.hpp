@@ -5,12 +5,24 @@
 //
 // Collectives must be called by every rank in the same order. A rank that fails calls finish() with its exit
 // code, which aborts the whole job (MPI_Abort): the others may be waiting in a collective and would never return.
+// A rank that stops answering (SIGSTOP, a hung node) must not hang the job either: a collective that has not
+// completed after $CLRADIOSITY_MPI_TIMEOUT seconds (default 300; 0: wait forever) takes a roll call of the ranks —
+// every rank answers while it waits in a collective — and fails naming the ranks that did not answer.
 #include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "common/error.hpp"
+
 namespace clr::distributed {
+
+// Bad input that every rank finds at the same point (ranks given different work, a command that does not use MPI):
+// the job can end without an abort, with rank 0's line alone.
+class JobInputError : public InputError {
+ public:
+  using InputError::InputError;
+};
 
 class Communicator {
  public:
@@ -38,13 +50,23 @@ class Communicator {
   // Rank 0 receives every rank's `part` concatenated in rank order; the other ranks receive nothing.
   std::vector<float> gather(std::span<const float> part) const;
 
+  // Before any work: every rank's `digest` of what it is about to compute (`what`: "the command line", "the scene
+  // (its files)", …) must equal rank 0's. Otherwise every rank throws a JobInputError naming the first rank that
+  // differs: ranks given other options would train one mixed model, or gather rows of different images.
+  void require_same(const std::string& what, std::uint64_t digest) const;
+
   // Ends this process's part in the job: 0 finalises MPI; any other code aborts every rank with it (it does not
-  // return then). A single process just returns the code.
-  int finish(int code);
+  // return then) unless every rank fails `together` at the same point (JobInputError): then each finalises and
+  // returns the code. A single process just returns the code.
+  int finish(int code, bool together = false);
 
  private:
+  friend struct Collective;  // communicator_mpi.cpp: the MPI calls
   Communicator() = default;
   static Communicator make_world();
+  // Completes a started non-blocking MPI operation (an MPI_Request*), answering roll calls and timing out
+  // meanwhile; `what` names it in the timeout's message.
+  void wait(void* mpi_request, const char* what) const;
 
   int rank_ = 0, size_ = 1, local_rank_ = 0;
   bool mpi_ = false;  // MPI initialised by this communicator

@@ -1,10 +1,14 @@
 // The communicator over MPI (built when CLR_MPI is on): MPI_COMM_WORLD of the launching mpirun.
 #include <mpi.h>
 
+#include <chrono>
 #include <climits>
+#include <cmath>
 #include <cstdlib>
 #include <stdexcept>
+#include <thread>
 
+#include "common/stop_signal.hpp"
 #include "distributed/communicator.hpp"
 
 namespace clr::distributed {
@@ -23,7 +27,100 @@ int count_of(std::size_t n) {
   return int(n);
 }
 
+// The roll call's messages: point to point, so they pass beside any collective in progress.
+constexpr int kRollCallTag = 0x5e11, kPresentTag = 0x5e12;
+
+// $CLRADIOSITY_MPI_TIMEOUT, read when first needed (an InputError then names it).
+double collective_timeout() {
+  const char* text = std::getenv("CLRADIOSITY_MPI_TIMEOUT");
+  if (!text || !*text) return 300;
+  char* end = nullptr;
+  const double seconds = std::strtod(text, &end);
+  if (*end != '\0' || !std::isfinite(seconds) || seconds < 0)
+    throw InputError(std::string("CLRADIOSITY_MPI_TIMEOUT '") + text + "': give seconds ≥ 0 (0: no timeout)");
+  return seconds;
+}
+
+// Answers every roll call that has arrived: this rank is here, waiting in a collective.
+void answer_roll_calls() {
+  for (;;) {
+    int pending = 0;
+    MPI_Status status;
+    MPI_Iprobe(MPI_ANY_SOURCE, kRollCallTag, MPI_COMM_WORLD, &pending, &status);
+    if (!pending) return;
+    int token = 0;
+    MPI_Recv(&token, 1, MPI_INT, status.MPI_SOURCE, kRollCallTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    MPI_Send(&token, 1, MPI_INT, status.MPI_SOURCE, kPresentTag, MPI_COMM_WORLD);  // 4 bytes: sent eagerly
+  }
+}
+
+// After the timeout: asks every other rank whether it is waiting too, gives them a few seconds to answer, and
+// fails naming the ones that did not (or, when all did, the mismatch of collectives that left them all waiting).
+[[noreturn]] void roll_call(int rank, int size, const char* what, double timeout) {
+  int token = 1;
+  std::vector<MPI_Request> asked;
+  for (int r = 0; r < size; ++r)
+    if (r != rank) MPI_Isend(&token, 1, MPI_INT, r, kRollCallTag, MPI_COMM_WORLD, &asked.emplace_back());
+  std::vector<bool> present(std::size_t(size), false);
+  present[std::size_t(rank)] = true;
+  int answers = 1;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (answers < size && std::chrono::steady_clock::now() < until) {
+    answer_roll_calls();
+    int arrived = 0;
+    MPI_Status status;
+    MPI_Iprobe(MPI_ANY_SOURCE, kPresentTag, MPI_COMM_WORLD, &arrived, &status);
+    if (!arrived) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      continue;
+    }
+    MPI_Recv(&token, 1, MPI_INT, status.MPI_SOURCE, kPresentTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (!present[std::size_t(status.MPI_SOURCE)]) ++answers;
+    present[std::size_t(status.MPI_SOURCE)] = true;
+  }
+  std::string silent;
+  for (int r = 0; r < size; ++r)
+    if (!present[std::size_t(r)]) silent += (silent.empty() ? "" : ", ") + std::to_string(r);
+  char limit[64];
+  std::snprintf(limit, sizeof limit, "%g s", timeout);
+  // The requests of unanswered roll calls stay pending: the job ends now.
+  if (silent.empty())
+    throw std::runtime_error(std::string(what) + " did not complete within " + limit +
+                             " although every rank is waiting: the ranks are in different collectives (ending the "
+                             "job; CLRADIOSITY_MPI_TIMEOUT sets the limit)");
+  throw std::runtime_error(std::string(what) + " did not complete within " + limit + ": rank" +
+                           (silent.find(',') == std::string::npos ? " " : "s ") + silent +
+                           " did not answer (stopped, hung or lost); ending the job (CLRADIOSITY_MPI_TIMEOUT sets "
+                           "the limit)");
+}
+
 }  // namespace
+
+// Every collective is started non-blocking and completed here: polling lets this rank answer roll calls while it
+// waits, and lets it give up after the timeout. A pause of this process (SIGSTOP of the whole job, Ctrl-Z) restarts
+// the clock rather than counting as the others' silence.
+void Communicator::wait(void* pending, const char* what) const {
+  static const double timeout = collective_timeout();
+  auto& request = *static_cast<MPI_Request*>(pending);
+  auto start = std::chrono::steady_clock::now();
+  unsigned continued = continue_count();
+  for (long polls = 0;; ++polls) {
+    int done = 0;
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done) return;
+    answer_roll_calls();
+    const auto now = std::chrono::steady_clock::now();
+    if (continue_count() != continued) {
+      continued = continue_count();
+      start = now;
+    }
+    if (timeout > 0 && std::chrono::duration<double>(now - start).count() > timeout)
+      roll_call(rank_, size_, what, timeout);
+    // Spin briefly (a step's collectives usually complete within microseconds), then yield the core to the
+    // device's threads.
+    if (polls > 2000) std::this_thread::sleep_for(std::chrono::microseconds(polls > 200000 ? 1000 : 50));
+  }
+}
 
 Communicator Communicator::make_world() {
   Communicator c;
@@ -55,48 +152,75 @@ Communicator& Communicator::single() {
   return one;
 }
 
+struct Collective {
+  static void allreduce(const Communicator& c, void* data, std::size_t n, MPI_Datatype type, MPI_Op op) {
+    MPI_Request r;
+    MPI_Iallreduce(MPI_IN_PLACE, data, count_of(n), type, op, MPI_COMM_WORLD, &r);
+    c.wait(&r, "an MPI allreduce");
+  }
+  static void broadcast(const Communicator& c, void* data, std::size_t n, MPI_Datatype type) {
+    MPI_Request r;
+    MPI_Ibcast(data, count_of(n), type, 0, MPI_COMM_WORLD, &r);
+    c.wait(&r, "an MPI broadcast");
+  }
+};
+
 void Communicator::sum(std::span<float> v) const {
-  if (distributed()) MPI_Allreduce(MPI_IN_PLACE, v.data(), count_of(v.size()), MPI_FLOAT, MPI_SUM, MPI_COMM_WORLD);
+  if (distributed()) Collective::allreduce(*this, v.data(), v.size(), MPI_FLOAT, MPI_SUM);
 }
 
 void Communicator::sum(std::span<double> v) const {
-  if (distributed()) MPI_Allreduce(MPI_IN_PLACE, v.data(), count_of(v.size()), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  if (distributed()) Collective::allreduce(*this, v.data(), v.size(), MPI_DOUBLE, MPI_SUM);
 }
 
 void Communicator::sum(std::span<std::int64_t> v) const {
-  if (distributed()) MPI_Allreduce(MPI_IN_PLACE, v.data(), count_of(v.size()), MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
+  if (distributed()) Collective::allreduce(*this, v.data(), v.size(), MPI_INT64_T, MPI_SUM);
 }
 
 void Communicator::bitwise_or(std::span<std::uint32_t> v) const {
-  if (distributed()) MPI_Allreduce(MPI_IN_PLACE, v.data(), count_of(v.size()), MPI_UINT32_T, MPI_BOR, MPI_COMM_WORLD);
+  if (distributed()) Collective::allreduce(*this, v.data(), v.size(), MPI_UINT32_T, MPI_BOR);
 }
 
 double Communicator::max(double value) const {
-  if (distributed()) MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  if (distributed()) Collective::allreduce(*this, &value, 1, MPI_DOUBLE, MPI_MAX);
   return value;
 }
 
 void Communicator::broadcast(std::string& bytes) const {
   if (!distributed()) return;
   std::uint64_t n = bytes.size();
-  MPI_Bcast(&n, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+  Collective::broadcast(*this, &n, 1, MPI_UINT64_T);
   bytes.resize(n);
-  MPI_Bcast(bytes.data(), count_of(n), MPI_CHAR, 0, MPI_COMM_WORLD);
+  Collective::broadcast(*this, bytes.data(), n, MPI_CHAR);
 }
 
 void Communicator::broadcast(std::span<std::uint64_t> v) const {
-  if (distributed()) MPI_Bcast(v.data(), count_of(v.size()), MPI_UINT64_T, 0, MPI_COMM_WORLD);
+  if (distributed()) Collective::broadcast(*this, v.data(), v.size(), MPI_UINT64_T);
 }
 
 void Communicator::broadcast(std::span<float> v) const {
-  if (distributed()) MPI_Bcast(v.data(), count_of(v.size()), MPI_FLOAT, 0, MPI_COMM_WORLD);
+  if (distributed()) Collective::broadcast(*this, v.data(), v.size(), MPI_FLOAT);
+}
+
+void Communicator::require_same(const std::string& what, std::uint64_t digest) const {
+  if (!distributed()) return;
+  std::vector<std::uint64_t> all(static_cast<std::size_t>(size_));
+  MPI_Request r;
+  MPI_Iallgather(&digest, 1, MPI_UINT64_T, all.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD, &r);
+  wait(&r, "comparing the ranks' work");
+  for (int k = 1; k < size_; ++k)
+    if (all[std::size_t(k)] != all[0])
+      throw JobInputError("rank " + std::to_string(k) + " was given other work than rank 0: " + what +
+                          " differ (every rank must get the same; only --device may differ)");
 }
 
 std::vector<float> Communicator::gather(std::span<const float> part) const {
   if (!distributed()) return {part.begin(), part.end()};
   const int mine = count_of(part.size());
   std::vector<int> counts(rank_ == 0 ? std::size_t(size_) : 0), offsets;
-  MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  MPI_Request r;
+  MPI_Igather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD, &r);
+  wait(&r, "an MPI gather");
   std::vector<float> all;
   if (rank_ == 0) {
     std::size_t total = 0;
@@ -106,14 +230,16 @@ std::vector<float> Communicator::gather(std::span<const float> part) const {
     }
     all.resize(total);
   }
-  MPI_Gatherv(part.data(), mine, MPI_FLOAT, all.data(), counts.data(), offsets.data(), MPI_FLOAT, 0, MPI_COMM_WORLD);
+  MPI_Igatherv(part.data(), mine, MPI_FLOAT, all.data(), counts.data(), offsets.data(), MPI_FLOAT, 0, MPI_COMM_WORLD,
+               &r);
+  wait(&r, "an MPI gather");
   return all;
 }
 
-int Communicator::finish(int code) {
+int Communicator::finish(int code, bool together) {
   if (!mpi_) return code;
   // Peers of a failed rank may be blocked in a collective that will never complete: only an abort ends them.
-  if (code != 0 && distributed()) MPI_Abort(MPI_COMM_WORLD, code);
+  if (code != 0 && distributed() && !together) MPI_Abort(MPI_COMM_WORLD, code);
   MPI_Finalize();
   mpi_ = false;
   return code;

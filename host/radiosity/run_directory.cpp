@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "common/atomic_file.hpp"
@@ -26,8 +27,8 @@ constexpr const char* kGuideLogColumns = ",guide_loss,guided_share";  // isnr ru
 void remove_stale_temporaries(const fs::path& dir) {
   for (const auto& entry : fs::directory_iterator(dir)) {
     const std::string name = entry.path().filename().string();
-    for (const fs::path& file :
-         {RunDirectory::model_path(dir), RunDirectory::config_path(dir), RunDirectory::log_path(dir)}) {
+    for (const fs::path& file : {RunDirectory::model_path(dir), RunDirectory::config_path(dir),
+                                 RunDirectory::log_path(dir), RunDirectory::scene_path(dir)}) {
       const std::string base = file.filename().string() + ".tmp";
       if (name.rfind(base, 0) == 0 && name.size() > base.size() &&
           name.find_first_not_of("0123456789", base.size()) == std::string::npos && entry.is_regular_file()) {
@@ -65,6 +66,38 @@ void write_model(const fs::path& dir, const TrainConfig& config, const nn::Netwo
   nn::write_checkpoint(RunDirectory::model_path(dir).string(), c);
 }
 
+nlohmann::json scene_record(const scene::SceneFingerprint& scene) {
+  nlohmann::json files = nlohmann::json::array();
+  for (const auto& f : scene.files) files.push_back({{"name", f.name}, {"digest", f.digest}});
+  return {{"scene", scene.scene.string()}, {"digest", scene.digest}, {"files", files}};
+}
+
+void write_scene(const fs::path& dir, scene::SceneFingerprint scene) {
+  scene.scene = fs::absolute(scene.scene).lexically_normal();
+  write_text_atomically(RunDirectory::scene_path(dir), scene_record(scene).dump(2) + "\n");
+}
+
+// scene.json as written by write_scene; nullopt for a run written before runs recorded their scene.
+std::optional<scene::SceneFingerprint> read_scene(const fs::path& dir) {
+  const fs::path file = RunDirectory::scene_path(dir);
+  if (!fs::exists(file) && !fs::is_symlink(file)) return std::nullopt;
+  const nlohmann::json j = read_json_file(file, "run scene record");
+  scene::SceneFingerprint f;
+  try {
+    f.scene = j.at("scene").get<std::string>();
+    f.digest = j.at("digest").get<std::string>();
+    if (!j.at("files").is_array()) throw InputError(file.string() + ": 'files' is not an array");
+    for (const auto& e : j.at("files"))
+      f.files.push_back({e.at("name").get<std::string>(), e.at("digest").get<std::string>()});
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file.string() + ": not a run's scene record (" + clip(e.what()) + ")");
+  }
+  require_known_and_kept(j, scene_record(f), file.string());
+  return f;
+}
+
+fs::path run_folder(const fs::path& run) { return fs::is_directory(run) ? run : run.parent_path(); }
+
 }  // namespace
 
 RunDirectory::RunDirectory(const fs::path& dir, bool create)
@@ -77,16 +110,22 @@ RunDirectory RunDirectory::create(const fs::path& dir) {
   return run;
 }
 
-void RunDirectory::start(const TrainConfig& config) {
+void RunDirectory::start(const TrainConfig& config, const scene::SceneFingerprint& scene) {
   config_ = config;
+  scene_ = scene;
+  write_scene(dir_, scene);
   write_text_atomically(config_path(dir_), nlohmann::json(config).dump(2) + "\n");
   write_text_atomically(log_path(dir_), std::string(kLogHeader) + (config.guided() ? kGuideLogColumns : "") + "\n");
 }
 
-RunDirectory RunDirectory::resume(const fs::path& dir) {
+RunDirectory RunDirectory::resume(const fs::path& dir, const scene::SceneFingerprint& scene) {
   RunDirectory run(dir, false);
   if (!fs::exists(model_path(dir))) throw InputError("--resume: no checkpoint " + model_path(dir).string());
   remove_stale_temporaries(dir);
+  require_scene(dir, scene);
+  run.scene_ = scene;
+  // A run from before scene records gets one now: its later readers are checked.
+  if (!read_scene(dir)) write_scene(dir, scene);
   run.config_ = load_config(dir);
   run.seconds_trained_ = logged_seconds(log_path(dir));
   return run;
@@ -122,15 +161,31 @@ void RunDirectory::save_model(const nn::Network& network, const nn::Network* gui
 }
 
 void RunDirectory::write_snapshot(const fs::path& dir, const TrainConfig& config, const nn::Network& network,
-                                  const nn::Network* guide) {
+                                  const nn::Network* guide) const {
   fs::create_directories(dir);
+  write_scene(dir, scene_);
   write_text_atomically(config_path(dir), nlohmann::json(config).dump(2) + "\n");
   write_model(dir, config, network, guide);
 }
 
 std::vector<fs::path> RunDirectory::input_files(const fs::path& run) {
-  const fs::path dir = fs::is_directory(run) ? run : run.parent_path();
-  return {fs::is_directory(run) ? model_path(run) : run, config_path(dir), log_path(dir)};
+  const fs::path dir = run_folder(run);
+  return {fs::is_directory(run) ? model_path(run) : run, config_path(dir), log_path(dir), scene_path(dir)};
+}
+
+void RunDirectory::require_scene(const fs::path& run, const scene::SceneFingerprint& scene) {
+  const auto recorded = read_scene(run_folder(run));
+  if (!recorded) {
+    // Not a run at all: reading its model fails next, with its own message.
+    if (!fs::exists(config_path(run_folder(run)))) return;
+    std::fprintf(stderr, "warning: %s records no scene (written before runs did): not checked against %s\n",
+                 run.c_str(), scene.scene.c_str());
+    return;
+  }
+  if (*recorded == scene) return;
+  throw InputError(run.string() + " was trained on " + recorded->scene.string() + " (scene digest " + recorded->digest +
+                   "); " + scene.scene.string() + " is another scene (digest " + scene.digest + ": " +
+                   scene::difference(*recorded, scene) + ")");
 }
 
 std::unique_ptr<nn::Network> RunDirectory::load_radiance(cl::Context& ctx, const fs::path& run) {

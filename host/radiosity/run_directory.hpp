@@ -1,6 +1,7 @@
 #pragma once
 // RUN_DIR, the files of one training: config.json (every setting, the networks' included), log.csv (a row per log
-// interval) and model.clr (both modules' checkpoint). The file names live here alone. A RunDirectory is the one
+// interval), model.clr (both modules' checkpoint) and scene.json (the fingerprint of the scene it models: every
+// reader of the run checks the scene it is given against it). The file names live here alone. A RunDirectory is the one
 // writer of a run: it holds the directory's lock (common/run_lock.hpp) for as long as it lives. Reading a run
 // (render, residual, guide, a sweep's snapshots) needs no lock: the static readers below.
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include "common/run_lock.hpp"
 #include "nn/network.hpp"
 #include "radiosity/train_config.hpp"
+#include "scene/fingerprint.hpp"
 
 namespace clr::radiosity {
 
@@ -34,18 +36,21 @@ class RunDirectory {
   static std::filesystem::path config_path(const std::filesystem::path& dir) { return dir / "config.json"; }
   static std::filesystem::path log_path(const std::filesystem::path& dir) { return dir / "log.csv"; }
   static std::filesystem::path model_path(const std::filesystem::path& dir) { return dir / "model.clr"; }
+  static std::filesystem::path scene_path(const std::filesystem::path& dir) { return dir / "scene.json"; }
 
   // A new run: `dir` must be absent or empty. Locks and creates it; start() writes its first files once the
   // settings are complete.
   static RunDirectory create(const std::filesystem::path& dir);
-  // config.json and log.csv's header.
-  void start(const TrainConfig& config);
-  // An existing run: locks it, removes what killed writers left behind, reads its settings (a run written before
-  // ISNR existed has no method: it was NR) and the training time of its sessions so far (log.csv's last row).
-  static RunDirectory resume(const std::filesystem::path& dir);
+  // config.json, scene.json and log.csv's header.
+  void start(const TrainConfig& config, const scene::SceneFingerprint& scene);
+  // An existing run of `scene` (else InputError naming both scenes): locks it, removes what killed writers left
+  // behind, reads its settings (a run written before ISNR existed has no method: it was NR) and the training time
+  // of its sessions so far (log.csv's last row).
+  static RunDirectory resume(const std::filesystem::path& dir, const scene::SceneFingerprint& scene);
 
   const std::filesystem::path& path() const { return dir_; }
   const TrainConfig& config() const { return config_; }
+  const scene::SceneFingerprint& scene() const { return scene_; }
   double seconds_trained() const { return seconds_trained_; }
 
   void append_log(const LogRow& row) const;
@@ -53,8 +58,13 @@ class RunDirectory {
   void save_model(const nn::Network& network, const nn::Network* guide) const;
   // The networks as they are now, as a run directory of their own (config.json + model.clr) that render, residual
   // and guide read: a sweep's snapshot of the run at one budget.
-  static void write_snapshot(const std::filesystem::path& dir, const TrainConfig& config, const nn::Network& network,
-                             const nn::Network* guide);
+  void write_snapshot(const std::filesystem::path& dir, const TrainConfig& config, const nn::Network& network,
+                      const nn::Network* guide) const;
+
+  // InputError naming both scenes when `run` (a run directory or its model.clr) was trained on another scene than
+  // `scene`: its bounding box, inputs and light would silently be taken for this one's. A run written before runs
+  // recorded their scene is not checked (a warning says so).
+  static void require_scene(const std::filesystem::path& run, const scene::SceneFingerprint& scene);
 
   // The files a reader of `run` (a run directory or its model.clr) reads: inputs no output may replace.
   static std::vector<std::filesystem::path> input_files(const std::filesystem::path& run);
@@ -71,6 +81,7 @@ class RunDirectory {
   std::filesystem::path dir_;
   std::unique_ptr<RunLock> lock_;
   TrainConfig config_;
+  scene::SceneFingerprint scene_;
   double seconds_trained_ = 0;
 };
 

@@ -97,6 +97,21 @@ void TrainConfig::validate() const {
     }
 }
 
+void TrainConfig::forget_scene() {
+  for (nlohmann::json* module : {&network, &guide}) {
+    if (!module->is_object()) continue;
+    module->erase("output_scale");
+    const auto encoder = module->find("encoder");
+    if (encoder == module->end() || !encoder->is_object()) continue;
+    encoder->erase("albedo");
+    encoder->erase("roughness");
+    const auto grid = encoder->find("grid");
+    if (grid == encoder->end() || !grid->is_object()) continue;
+    grid->erase("bbox_lo");
+    grid->erase("bbox_hi");
+  }
+}
+
 double TrainConfig::learning_rate_scale(double progress) const {
   if (progress <= anneal_start || anneal_start >= 1) return 1.0;
   return std::pow(anneal_final, (std::min(progress, 1.0) - anneal_start) / (1.0 - anneal_start));

@@ -83,6 +83,10 @@ struct TrainConfig {
 
   // Throws InputError naming the first impossible setting (e.g. "samples must be ≥ 1, got 0").
   void validate() const;
+
+  // Drops from `network` and `guide` what a run derived from its scene — the hash grids' bounding box, which inputs
+  // vary, the radiance unit — so that another scene derives its own: a run's config.json reused for another scene.
+  void forget_scene();
 };
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, is_loss, bsdf_fraction, guide_warmup, residual,

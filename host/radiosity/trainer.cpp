@@ -53,7 +53,7 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
   if (ranks.rank() != 0) {
     // Rank 0's config and networks arrive in share_rank0_state.
   } else if (resume) {
-    run_ = RunDirectory::resume(run_dir);
+    run_ = RunDirectory::resume(run_dir, scene::fingerprint(geometry.scene()));
     // The run's own settings win; only the stopping rule comes from this invocation.
     TrainConfig saved = run_->config();
     saved.steps = config_.steps;
@@ -72,7 +72,7 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
       config_.guide = nn::to_json(guide_network_config(geometry, sampler_, config_));
       guide_ = std::make_unique<nn::Network>(ctx, nn::network_config_from_json(config_.guide));
     }
-    run_->start(config_);
+    run_->start(config_, scene::fingerprint(geometry.scene()));
   }
   share_rank0_state();
   residual_power_ = float(config_.relative_power(0.0));
@@ -145,7 +145,7 @@ void Trainer::save_checkpoint() const {
 }
 
 void Trainer::save_snapshot(const fs::path& dir) const {
-  if (run_) RunDirectory::write_snapshot(dir, config_, *network_, guide_.get());
+  if (run_) run_->write_snapshot(dir, config_, *network_, guide_.get());
 }
 
 void Trainer::run(const RunOptions& options) {

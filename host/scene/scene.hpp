@@ -36,6 +36,9 @@ struct Scene {
   // The scene's integrator max_depth (longest path in segments, Mitsuba's convention); -1: unbounded.
   int max_depth = -1;
   bool has_sensor = false;  // false: `camera` holds defaults, not a view the file chose
+  // Every file the scene was read from — the XML first, then includes, meshes, textures and environment maps in the
+  // order first read: a command's inputs (no output may replace one) and what a scene's fingerprint covers.
+  std::vector<std::filesystem::path> files;
 
   const Bsdf& bsdf(const Shape& s) const { return *materials[std::size_t(s.material)]; }
 };

@@ -7,13 +7,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "common/atomic_file.hpp"
+#include "common/digest.hpp"
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "common/run_lock.hpp"
 #include "common/stop_signal.hpp"
 #include "reference/path_tracer.hpp"
-#include "scene/scene.hpp"
+#include "scene/fingerprint.hpp"
 #include "sweep/configuration_run.hpp"
 #include "sweep/path_tracing.hpp"
 #include "sweep/tables.hpp"
@@ -100,6 +103,45 @@ void draw_figures(const SweepOptions& o) {
     std::printf("sweep: figures failed: %s exited with an error (the tables are complete)\n", o.plot_script.c_str());
 }
 
+// What every row of SWEEP_DIR's table depends on. Budgets, methods, sample counts and seeds only add rows; a change
+// of any of these would put rows measured another way into the same table.
+nlohmann::json defining_options(const SweepOptions& o, const scene::Scene& scene, int width, int height) {
+  return {{"scene", scene::fingerprint(scene).digest},
+          {"reference", o.reference.empty() ? "path-traced at " + std::to_string(o.reference_spp) + " spp"
+                                            : Digest().add_file(o.reference).hex()},
+          {"width", width},
+          {"height", height},
+          {"render_spp", o.render_spp},
+          {"residual_points", o.residual_points},
+          {"residual_samples", o.residual_samples},
+          {"config", o.base}};
+}
+
+// SWEEP_DIR/sweep.json records the defining options of its first run; a rerun must give the same.
+void require_same_sweep(const fs::path& dir, const nlohmann::json& options) {
+  const fs::path file = dir / "sweep.json";
+  if (!fs::exists(file) && !fs::is_symlink(file)) {
+    write_text_atomically(file, options.dump(2) + "\n");
+    return;
+  }
+  const nlohmann::json recorded = read_json_file(file, "sweep record");
+  static const std::map<std::string, std::string> option_of = {
+      {"scene", "the scene (its files)"},
+      {"reference", "--reference (its content) or --reference-spp"},
+      {"width", "--width"},
+      {"height", "--height"},
+      {"render_spp", "--spp"},
+      {"residual_points", "--residual-points"},
+      {"residual_samples", "--residual-samples"},
+      {"config", "--config"}};
+  for (const auto& [key, value] : options.items())
+    if (!recorded.is_object() || !recorded.contains(key) || recorded.at(key) != value)
+      throw InputError(dir.string() + " holds a sweep made with other settings: " + option_of.at(key) + " was " +
+                       clip(recorded.is_object() && recorded.contains(key) ? recorded.at(key).dump() : "absent") +
+                       ", now " + clip(value.dump()) + " (" + file.string() +
+                       "); rows measured both ways would share one table: use another sweep directory");
+}
+
 }  // namespace
 
 void run_sweep(cl::Context& ctx, const SweepOptions& options) {
@@ -118,6 +160,7 @@ void run_sweep(cl::Context& ctx, const SweepOptions& options) {
   std::vector<Row> rows = read_results(results);
   const RunLock lock(o.dir);  // one sweep per SWEEP_DIR
   require_writable_directory(o.dir, "sweep directory");
+  require_same_sweep(o.dir, defining_options(o, scene, width, height));
   install_stop_handlers();
   const geometry::Geometry geometry(scene);
   const image::Image reference = reference_image(geometry, o, width, height);

@@ -146,6 +146,44 @@ TEST_F(TrainCli, IsnrRunShowsItsGuide) {
   EXPECT_FALSE(fs::exists(dir / "n.png"));
 }
 
+// A run knows its scene: every command that reads it with another scene exits 2 naming both; a copy of the scene
+// folder elsewhere is the same scene.
+TEST_F(TrainCli, ARunRefusesAnotherScene) {
+  const fs::path run = dir / "run";
+  ASSERT_EQ(run_cli("train " + kBox + " --steps 2 --config " + config + " -o " + run.string()).exit_code, 0);
+  std::ifstream in(kBox);
+  std::string xml{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  fs::create_directories(dir / "copy");
+  std::ofstream(dir / "copy" / "box.xml") << xml;
+  const std::string copy = (dir / "copy" / "box.xml").string(), other = (dir / "other.xml").string();
+  const std::string red = "0.63, 0.065, 0.05";
+  ASSERT_NE(xml.find(red), std::string::npos);
+  xml.replace(xml.find(red), red.size(), "0.6, 0.065, 0.05");
+  std::ofstream(other) << xml;
+
+  const std::string out = (dir / "out.exr").string();
+  EXPECT_EQ(run_cli("render " + copy + " --model " + run.string() + " --width 8 --height 8 -o " + out).exit_code, 0);
+  for (const std::string& args :
+       {"render " + other + " --model " + run.string() + " --width 8 --height 8 -o " + out,
+        "render " + other + " --model " + (run / "model.clr").string() + " --width 8 --height 8 -o " + out,
+        "residual " + other + " --model " + run.string() + " --points 64 --samples 4",
+        "guide " + other + " --model " + run.string() + " --pixel 4,4 --resolution 8 -o " + (dir / "g.png").string(),
+        "train " + other + " --resume --steps 4 -o " + run.string(),
+        "train " + other + " --steps 1 --config " + (run / "config.json").string() + " -o " + (dir / "x").string()}) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_THAT(r.err, HasSubstr("is another scene")) << args;
+    EXPECT_THAT(r.err, HasSubstr(kBox)) << args << ": names the run's scene";
+    EXPECT_THAT(r.err, HasSubstr(other)) << args << ": names the scene given";
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "g.png"));
+  // Reusing a run's settings for another scene is allowed when asked for; the scene's own box and inputs are used.
+  const auto r = run_cli("train " + other + " --steps 1 --other-scene --config " + (run / "config.json").string() +
+                         " -o " + (dir / "x").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
 TEST_F(TrainCli, BadInputExitsTwoWithOneLine) {
   const std::string run = (dir / "run").string();
   fs::create_directories(dir / "empty");

@@ -4,7 +4,7 @@
 # seconds, non-zero, leaving a valid checkpoint that resumes on another rank count.
 # Usage: mpi_cli_faults.sh CLRADIOSITY MPIRUN SCENES_DIR
 set -uo pipefail
-cli=$1 mpirun=$2 scenes=$3
+cli=$(realpath "$1") mpirun=$2 scenes=$3
 scene=$scenes/cornell-box.xml
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -60,4 +60,64 @@ steps=$(tail -1 "$work/run/log.csv" | cut -d, -f1)
 "$cli" train "$scene" --resume --steps $((steps + 6)) -o "$work/run" >"$work/resume.out" 2>&1 ||
   fail "resume on one rank: $(tail -2 "$work/resume.out")"
 grep -q "^$((steps + 6))," "$work/run/log.csv" || fail "the resumed run logged no step $((steps + 6))"
+echo "== ranks given different work stop before it, with one line naming the rank"
+for variant in "--spp 4:--spp 8" "--spp 4 --seed 1:--spp 4 --seed 2"; do
+  "$mpirun" -n 1 "$cli" reference "$scene" --width 8 --height 8 ${variant%%:*} -o "$work/mixed.exr" : \
+    -n 1 "$cli" reference "$scene" --width 8 --height 8 ${variant##*:} -o "$work/mixed.exr" >"$work/mixed.out" 2>&1
+  rc=$?
+  [ "$rc" -eq 2 ] || fail "exit $rc for ranks given $variant, want 2: $(head -3 "$work/mixed.out")"
+  [ "$(grep -c "clradiosity: error" "$work/mixed.out")" -eq 1 ] || fail "not one error line: $(cat "$work/mixed.out")"
+  grep -q "clradiosity: error: rank 1 was given other work than rank 0: the command lines differ" "$work/mixed.out" ||
+    fail "no line naming rank 1: $(head -3 "$work/mixed.out")"
+  [ ! -e "$work/mixed.exr" ] || fail "an image was written from mixed work"
+done
+# The same command line on another copy of the scene's folder with a changed file: the scene's contents differ.
+mkdir -p "$work/a" "$work/b"
+cp "$scene" "$work/a/scene.xml"
+sed 's/0.63, 0.065, 0.05/0.6, 0.065, 0.05/' "$scene" >"$work/b/scene.xml"
+cmp -s "$work/a/scene.xml" "$work/b/scene.xml" && fail "the scene edit changed nothing"
+# The same command line (a relative path) in two working folders: only the scenes' contents differ.
+"$mpirun" -n 1 -wdir "$work/a" "$cli" reference scene.xml --width 8 --height 8 --spp 1 -o mixed.exr : \
+  -n 1 -wdir "$work/b" "$cli" reference scene.xml --width 8 --height 8 --spp 1 -o mixed.exr >"$work/scenes.out" 2>&1
+rc=$?
+[ "$rc" -eq 2 ] || fail "exit $rc for ranks given different scenes, want 2: $(head -3 "$work/scenes.out")"
+grep -q "clradiosity: error: rank 1 was given other work than rank 0: the scenes" "$work/scenes.out" ||
+  fail "no line naming the scenes: $(head -3 "$work/scenes.out")"
+[ ! -e "$work/a/mixed.exr" ] || fail "an image was written from different scenes"
+
+echo "== a command that does not use MPI is refused under mpirun"
+two render "$scene" --model "$work/run" -o "$work/r.exr" >"$work/render.out" 2>&1
+rc=$?
+[ "$rc" -eq 2 ] || fail "exit $rc for render under mpirun, want 2"
+[ "$(grep -c "clradiosity: error" "$work/render.out")" -eq 1 ] || fail "not one line: $(cat "$work/render.out")"
+grep -q "render runs in one process" "$work/render.out" || fail "no line naming render: $(cat "$work/render.out")"
+
+echo "== a rank that stops answering ends the job after the collective timeout, naming it"
+CLRADIOSITY_MPI_TIMEOUT=5 "$mpirun" -x CLRADIOSITY_MPI_TIMEOUT -n 2 "$cli" train "$scene" --config "$work/small.json" \
+  --steps 1000000 -o "$work/stopped" >"$work/stopped.out" 2>&1 &
+job=$!
+for _ in $(seq 600); do
+  [ "$(cat "$work/stopped/log.csv" 2>/dev/null | grep -c .)" -ge 3 ] && break
+  kill -0 $job 2>/dev/null || fail "the 2-rank training ended early: $(tail -3 "$work/stopped.out")"
+  sleep 0.1
+done
+victim=""
+for pid in $(pgrep -P $job); do
+  tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=1" && victim=$pid
+done
+[ -n "$victim" ] || { kill $job; fail "rank 1 not found among mpirun's children"; }
+kill -STOP "$victim"
+start=$SECONDS
+for _ in $(seq 600); do kill -0 $job 2>/dev/null || break; sleep 0.1; done
+if kill -0 $job 2>/dev/null; then
+  kill -CONT "$victim"
+  kill -9 $job
+  fail "the job still runs 60 s after rank 1 stopped (timeout 5 s)"
+fi
+wait $job
+rc=$?
+echo "job ended $((SECONDS - start)) s after rank 1 stopped, exit $rc"
+[ "$rc" -ne 0 ] || fail "exit 0 after a rank stopped answering"
+grep -q "clradiosity: failed: rank 0: .* did not complete within 5 s: rank 1 did not answer" "$work/stopped.out" ||
+  fail "no line naming rank 1: $(grep clradiosity "$work/stopped.out" | head -3)"
 echo "PASS"

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "scene/fingerprint.hpp"
 
 namespace clr::radiosity {
 namespace {
@@ -19,21 +20,39 @@ using ::testing::HasSubstr;
 class RunDirectoryTest : public ::testing::Test {
  protected:
   void SetUp() override { fs::remove_all(dir); }
-  void TearDown() override { fs::remove_all(dir); }
+  void TearDown() override {
+    fs::remove_all(dir);
+    fs::remove_all(scenes);
+  }
   static std::string text(const fs::path& file) {
     std::ifstream in(file);
     std::stringstream s;
     s << in.rdbuf();
     return s.str();
   }
+  // A scene of `files` (the XML first), written into `folder` with the given contents.
+  static scene::SceneFingerprint scene_of(const fs::path& folder,
+                                          const std::vector<std::pair<std::string, std::string>>& files) {
+    scene::Scene s;
+    for (const auto& [name, content] : files) {
+      fs::create_directories((folder / name).parent_path());
+      std::ofstream(folder / name) << content;
+      s.files.push_back(folder / name);
+    }
+    return scene::fingerprint(s);
+  }
   const fs::path dir = fs::temp_directory_path() / ("clr_run_directory" + std::to_string(::getpid()));
+  const fs::path scenes = dir.string() + "_scenes";
+  scene::SceneFingerprint cbox() const {
+    return scene_of(scenes / "cbox", {{"scene.xml", "<scene/>"}, {"meshes/a.obj", "v 0 0 0"}});
+  }
 };
 
 TEST_F(RunDirectoryTest, StartWritesTheSettingsAndTheLogHeader) {
   TrainConfig config;
   config.method = Method::Nr;
   RunDirectory run = RunDirectory::create(dir);
-  run.start(config);
+  run.start(config, cbox());
   EXPECT_EQ(RunDirectory::load_config(dir).method, Method::Nr);
   EXPECT_EQ(text(RunDirectory::log_path(dir)), "step,seconds,loss,lookups,non_finite,learning_rate,residual_power\n");
   run.append_log({.step = 25, .seconds = 1.5, .loss = 0.25, .lookups = 0.5, .non_finite = 3});
@@ -42,7 +61,7 @@ TEST_F(RunDirectoryTest, StartWritesTheSettingsAndTheLogHeader) {
 
 TEST_F(RunDirectoryTest, IsnrRowsCarryTheGuideColumns) {
   RunDirectory run = RunDirectory::create(dir);
-  run.start(TrainConfig{});
+  run.start(TrainConfig{}, cbox());
   run.append_log({.step = 1, .guide_loss = 0.5, .guided_share = 0.25});
   const std::string log = text(RunDirectory::log_path(dir));
   EXPECT_THAT(log, HasSubstr(",guide_loss,guided_share\n"));
@@ -51,10 +70,10 @@ TEST_F(RunDirectoryTest, IsnrRowsCarryTheGuideColumns) {
 
 TEST_F(RunDirectoryTest, OneWriterAtATime) {
   RunDirectory first = RunDirectory::create(dir);
-  first.start(TrainConfig{});
+  first.start(TrainConfig{}, cbox());
   std::ofstream(RunDirectory::model_path(dir)) << "x";
   try {
-    RunDirectory::resume(dir);
+    RunDirectory::resume(dir, cbox());
     FAIL() << "a second writer was let in";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("in use by another training"));
@@ -64,13 +83,13 @@ TEST_F(RunDirectoryTest, OneWriterAtATime) {
 TEST_F(RunDirectoryTest, ResumeReadsTheTrainingTimeAndClearsKilledWritersTemporaries) {
   {
     RunDirectory run = RunDirectory::create(dir);
-    run.start(TrainConfig{});
+    run.start(TrainConfig{}, cbox());
     run.append_log({.step = 25, .seconds = 12.5});
   }
   std::ofstream(RunDirectory::model_path(dir)) << "x";
   std::ofstream(dir / "model.clr.tmp4242") << "partial";
   std::ofstream(dir / "model.clr.tmpx") << "not ours";
-  const RunDirectory run = RunDirectory::resume(dir);
+  const RunDirectory run = RunDirectory::resume(dir, cbox());
   EXPECT_DOUBLE_EQ(run.seconds_trained(), 12.5);
   EXPECT_FALSE(fs::exists(dir / "model.clr.tmp4242"));
   EXPECT_TRUE(fs::exists(dir / "model.clr.tmpx")) << "only write_atomically's names are removed";
@@ -79,16 +98,72 @@ TEST_F(RunDirectoryTest, ResumeReadsTheTrainingTimeAndClearsKilledWritersTempora
 TEST_F(RunDirectoryTest, ALogRowThatIsNotATimeNamesItsLine) {
   {
     RunDirectory run = RunDirectory::create(dir);
-    run.start(TrainConfig{});
+    run.start(TrainConfig{}, cbox());
   }
   std::ofstream(RunDirectory::model_path(dir)) << "x";
   for (const char* seconds : {"nan", "-1", "inf", "soon"}) {
     std::ofstream(RunDirectory::log_path(dir)) << "step,seconds\n25," << seconds << ",0.1\n";
     try {
-      RunDirectory::resume(dir);
+      RunDirectory::resume(dir, cbox());
       ADD_FAILURE() << seconds << " was read as a training time";
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), HasSubstr("log.csv:2:")) << seconds;
+    }
+  }
+}
+
+TEST_F(RunDirectoryTest, ARunBelongsToTheSceneItWasTrainedOn) {
+  RunDirectory::create(dir).start(TrainConfig{}, cbox());
+  std::ofstream(RunDirectory::model_path(dir)) << "x";
+  // The same files in another folder are the same scene (a copied or moved scene folder keeps its runs).
+  const auto copy = scene_of(scenes / "copy", {{"scene.xml", "<scene/>"}, {"meshes/a.obj", "v 0 0 0"}});
+  EXPECT_NO_THROW(RunDirectory::require_scene(dir, copy));
+  EXPECT_NO_THROW(RunDirectory::require_scene(RunDirectory::model_path(dir), copy));
+  EXPECT_NO_THROW(RunDirectory::resume(dir, copy));
+  const std::vector<std::pair<scene::SceneFingerprint, std::string>> others = {
+      {scene_of(scenes / "x", {{"scene.xml", "<scene version='3'/>"}, {"meshes/a.obj", "v 0 0 0"}}),
+       "the scene file differs"},
+      {scene_of(scenes / "y", {{"scene.xml", "<scene/>"}, {"meshes/a.obj", "v 0 0 1"}}), "meshes/a.obj differs"},
+      {scene_of(scenes / "z", {{"scene.xml", "<scene/>"}, {"meshes/a.obj", "v 0 0 0"}, {"b.png", "p"}}),
+       "b.png is read now, not then"},
+      {scene_of(scenes / "w", {{"scene.xml", "<scene/>"}}), "meshes/a.obj was read then, not now"}};
+  for (const auto& [other, why] : others) {
+    for (const fs::path& run : {dir, RunDirectory::model_path(dir)}) {
+      try {
+        RunDirectory::require_scene(run, other);
+        ADD_FAILURE() << why << ": another scene was accepted";
+      } catch (const InputError& e) {
+        EXPECT_THAT(e.what(), HasSubstr(why));
+        EXPECT_THAT(e.what(), HasSubstr((scenes / "cbox" / "scene.xml").string())) << "names the run's scene";
+        EXPECT_THAT(e.what(), HasSubstr(other.scene.string())) << "names the scene given";
+      }
+    }
+    EXPECT_THROW(RunDirectory::resume(dir, other), InputError) << why;
+  }
+}
+
+TEST_F(RunDirectoryTest, ARunWithoutASceneRecordIsReadAndGetsOneOnResume) {
+  RunDirectory::create(dir).start(TrainConfig{}, cbox());
+  std::ofstream(RunDirectory::model_path(dir)) << "x";
+  fs::remove(RunDirectory::scene_path(dir));
+  const auto other = scene_of(scenes / "y", {{"scene.xml", "<scene/>"}, {"meshes/a.obj", "v 0 0 1"}});
+  EXPECT_NO_THROW(RunDirectory::require_scene(dir, other)) << "runs from before scene records stay readable";
+  { RunDirectory::resume(dir, cbox()); }
+  EXPECT_TRUE(fs::exists(RunDirectory::scene_path(dir)));
+  EXPECT_THROW(RunDirectory::require_scene(dir, other), InputError);
+}
+
+TEST_F(RunDirectoryTest, AMalformedSceneRecordNamesTheFile) {
+  fs::create_directories(dir);
+  for (const char* record : {R"({"scene": "a", "digest": 3, "files": []})", R"({"scene": "a", "digest": "0"})",
+                             R"({"scene": "a", "digest": "0", "files": {}})",
+                             R"({"scene": "a", "digest": "0", "files": [], "extra": 1})", "[1, 2"}) {
+    std::ofstream(RunDirectory::scene_path(dir)) << record;
+    try {
+      RunDirectory::require_scene(dir, cbox());
+      ADD_FAILURE() << record << " was read as a scene record";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("scene.json")) << record;
     }
   }
 }

@@ -15,6 +15,7 @@
 #include <map>
 #include <sstream>
 #include <thread>
+#include <tuple>
 
 #include "cl/device.hpp"
 #include "image/image.hpp"
@@ -143,6 +144,24 @@ TEST_F(SweepCli, TrainsEachConfigurationOnceAndRerunsNothing) {
   const auto again = sweep::read_results(out / "results.csv");
   ASSERT_EQ(again.size(), rows.size());
   for (std::size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(again[i].mape, rows[i].mape);
+
+  // A rerun that would measure rows another way is refused before any work, naming what changed; budgets and
+  // methods may grow (they only add rows).
+  const std::string reference = (dir / "other_reference.exr").string();
+  ASSERT_EQ(run_cli("reference " + kBox + " --width 16 --height 16 --spp 1 -o " + reference).exit_code, 0);
+  for (const auto& [from, to, culprit] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"--width 16", "--width 8", "--width"},
+           {"--spp 4", "--spp 8", "--spp"},
+           {"--residual-samples 4", "--residual-samples 8", "--residual-samples"},
+           {"--reference-spp 64", "--reference " + reference, "--reference"}}) {
+    std::string changed = args(out, "0.01");
+    changed.replace(changed.find(from), from.size(), to);
+    r = run_cli(changed);
+    EXPECT_EQ(r.exit_code, 2) << to << ": " << r.err;
+    EXPECT_THAT(r.err, HasSubstr(culprit)) << to;
+    EXPECT_THAT(r.err, HasSubstr(out.string())) << to;
+    EXPECT_EQ(sweep::read_results(out / "results.csv").size(), rows.size()) << to;
+  }
 }
 
 TEST_F(SweepCli, InterruptKeepsFinishedRowsAndARerunCompletes) {

@@ -38,6 +38,7 @@ class Loader final : public loader::Context {
     const Node& n = p.expect(property, {"string"});
     const auto f = resolve(n, n.attr("value"));
     require_file(p.node, f, what);
+    record(f);
     return f;
   }
 
@@ -91,6 +92,11 @@ class Loader final : public loader::Context {
   }
 
  private:
+  // Every file the scene reads, once each, in the order first read (Scene::files).
+  void record(const std::filesystem::path& file) {
+    if (recorded_.insert(std::filesystem::weakly_canonical(file)).second) scene_.files.push_back(file);
+  }
+
   void load_file(const std::filesystem::path& path, const Node* included_from) {
     const auto canonical = std::filesystem::weakly_canonical(path);
     if (!including_.insert(canonical).second) included_from->fail("recursive include of '" + path.string() + "'");
@@ -105,6 +111,7 @@ class Loader final : public loader::Context {
       if (included_from) included_from->fail(e.what());
       throw;
     }
+    record(path);
     const Node root{src->doc.document_element(), src.get(), &params_};
     if (root.xml.empty() || root.tag() != "scene")
       throw InputError(path.string() + ":1: the root element must be <scene>");
@@ -460,6 +467,7 @@ class Loader final : public loader::Context {
   std::map<const Bsdf*, int> material_ids_;
   std::shared_ptr<const Bsdf> default_bsdf_;
   bool sensor_seen_ = false;
+  std::set<std::filesystem::path> recorded_;
   Scene scene_;
 };
 

@@ -1,0 +1,46 @@
+#include "scene/fingerprint.hpp"
+
+#include <algorithm>
+
+#include "common/digest.hpp"
+
+namespace clr::scene {
+namespace fs = std::filesystem;
+
+SceneFingerprint fingerprint(const Scene& scene) {
+  SceneFingerprint f;
+  if (scene.files.empty()) return f;
+  f.scene = scene.files.front();
+  const fs::path folder = fs::absolute(f.scene).lexically_normal().parent_path();
+  Digest all;
+  for (const auto& file : scene.files) {
+    const fs::path absolute = fs::absolute(file).lexically_normal();
+    const fs::path relative = absolute.lexically_relative(folder);
+    const bool inside = !relative.empty() && *relative.begin() != "..";
+    SceneFingerprint::File entry{(inside ? relative : absolute).generic_string(), Digest().add_file(file).hex()};
+    // The scene file is named by its position: a renamed scene.xml with the same content is the same scene.
+    all.add(&file == &scene.files.front() ? "" : entry.name).add("\n").add(entry.digest).add("\n");
+    f.files.push_back(std::move(entry));
+  }
+  f.digest = all.hex();
+  return f;
+}
+
+std::string difference(const SceneFingerprint& from, const SceneFingerprint& to) {
+  if (from.digest == to.digest) return "";
+  if (!from.files.empty() && !to.files.empty() && from.files.front().digest != to.files.front().digest)
+    return "the scene file differs";
+  const auto find = [](const SceneFingerprint& f, const std::string& name) {
+    return std::find_if(f.files.begin(), f.files.end(), [&](const auto& e) { return e.name == name; });
+  };
+  for (std::size_t i = 1; i < to.files.size(); ++i) {
+    const auto other = find(from, to.files[i].name);
+    if (other == from.files.end()) return to.files[i].name + " is read now, not then";
+    if (other->digest != to.files[i].digest) return to.files[i].name + " differs";
+  }
+  for (std::size_t i = 1; i < from.files.size(); ++i)
+    if (find(to, from.files[i].name) == to.files.end()) return from.files[i].name + " was read then, not now";
+  return "the files are read in another order";
+}
+
+}  // namespace clr::scene
