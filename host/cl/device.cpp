@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "cl/error.hpp"
+#include "cl/no_platform.hpp"
 #include "common/error.hpp"
 
 namespace clr::cl {
@@ -158,11 +159,11 @@ DeviceInfo select_device(const std::vector<DeviceInfo>& devices, const std::stri
 
   auto fail = [&](const std::string& why) -> DeviceInfo {
     std::string msg = why + "; available:";
-    if (devices.empty()) msg += " none (no OpenCL platform found; install pocl-opencl-icd or a GPU driver)";
     for (const auto& d : devices) msg += "  [" + d.describe() + "]";
     throw InputError(msg);
   };
-  if (devices.empty()) return fail(spec.empty() ? "no OpenCL device" : origin + " '" + spec + "' matches no device");
+  // No device at all is the machine's state, whatever was asked for (exit 1, naming the cause).
+  if (devices.empty()) throw std::runtime_error(no_platform_cause());
 
   // The matches in listing order; the nth of them, round-robin, so ranks on one machine spread over its devices.
   std::vector<const DeviceInfo*> matches;

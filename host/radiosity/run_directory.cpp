@@ -122,12 +122,12 @@ RunDirectory RunDirectory::resume(const fs::path& dir, const scene::SceneFingerp
   RunDirectory run(dir, false);
   if (!fs::exists(model_path(dir))) throw InputError("--resume: no checkpoint " + model_path(dir).string());
   remove_stale_temporaries(dir);
+  run.config_ = load_config(dir);
+  run.seconds_trained_ = logged_seconds(log_path(dir));
   require_scene(dir, scene);
   run.scene_ = scene;
   // A run from before scene records gets one now: its later readers are checked.
   if (!read_scene(dir)) write_scene(dir, scene);
-  run.config_ = load_config(dir);
-  run.seconds_trained_ = logged_seconds(log_path(dir));
   return run;
 }
 
@@ -175,14 +175,9 @@ std::vector<fs::path> RunDirectory::input_files(const fs::path& run) {
 
 void RunDirectory::require_scene(const fs::path& run, const scene::SceneFingerprint& scene) {
   const auto recorded = read_scene(run_folder(run));
-  if (!recorded) {
-    // Not a run at all: reading its model fails next, with its own message.
-    if (!fs::exists(config_path(run_folder(run)))) return;
-    std::fprintf(stderr, "warning: %s records no scene (written before runs did): not checked against %s\n",
-                 run.c_str(), scene.scene.c_str());
-    return;
-  }
-  if (*recorded == scene) return;
+  // A run written before runs recorded their scene (or not a run at all: reading it fails next, with its own
+  // message) is not checked; resuming it records the scene.
+  if (!recorded || *recorded == scene) return;
   throw InputError(run.string() + " was trained on " + recorded->scene.string() + " (scene digest " + recorded->digest +
                    "); " + scene.scene.string() + " is another scene (digest " + scene.digest + ": " +
                    scene::difference(*recorded, scene) + ")");

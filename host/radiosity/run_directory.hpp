@@ -63,7 +63,7 @@ class RunDirectory {
 
   // InputError naming both scenes when `run` (a run directory or its model.clr) was trained on another scene than
   // `scene`: its bounding box, inputs and light would silently be taken for this one's. A run written before runs
-  // recorded their scene is not checked (a warning says so).
+  // recorded their scene (no scene.json) is not checked.
   static void require_scene(const std::filesystem::path& run, const scene::SceneFingerprint& scene);
 
   // The files a reader of `run` (a run directory or its model.clr) reads: inputs no output may replace.

@@ -1,7 +1,10 @@
 // The clradiosity binary as a user meets it: exit codes and one clear line on stderr.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "cl/device.hpp"
@@ -31,6 +34,7 @@ TEST(Cli, UsageErrorsExitTwoWithOneLine) {
 
 TEST(Cli, BadDeviceExitsTwoAndListsDevices) {
   const auto devices = cl::list_devices();
+  if (devices.empty()) GTEST_SKIP() << "no OpenCL platform on this machine";
   for (const auto& [args, env] :
        {std::pair{"devices --device nosuch", ""}, std::pair{"devices", "CLRADIOSITY_DEVICE=nosuch"},
         std::pair{"devices --device 9:9", ""}}) {
@@ -40,6 +44,35 @@ TEST(Cli, BadDeviceExitsTwoAndListsDevices) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     for (const auto& d : devices) EXPECT_THAT(r.err, HasSubstr(d.name));
   }
+}
+
+// No platform at all is the machine's fault, not the command's: exit 1 with the cause named — an ICD folder that
+// registers no driver, or PoCL's unusable cache folder (PoCL then registers no platform and looks uninstalled).
+TEST(Cli, NoPlatformExitsOneNamingTheCause) {
+  const auto empty = std::filesystem::temp_directory_path() / ("clr_no_icd_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(empty);
+  const std::pair<std::string, std::string> cases[] = {
+      {"OCL_ICD_VENDORS=" + empty.string(), "OCL_ICD_VENDORS=" + empty.string() + " registers no driver"},
+      {"OCL_ICD_VENDORS=" + (empty / "missing").string(), "does not exist"}};
+  for (const auto& [env, cause] : cases)
+    for (const char* args : {"devices", "devices --device cpu"}) {
+      const auto r = run_cli(args, env);
+      EXPECT_EQ(r.exit_code, 1) << args << " " << env << ": " << r.err;
+      EXPECT_THAT(r.err, HasSubstr(cause)) << args << " " << env;
+      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+  std::filesystem::remove_all(empty);
+
+  // PoCL alone on this machine: its cache folder, made unusable, is named as the cause.
+  const auto devices = cl::list_devices();
+  if (devices.empty() || std::any_of(devices.begin(), devices.end(), [](const cl::DeviceInfo& d) {
+        return d.platform_name.find("Portable Computing Language") == std::string::npos;
+      }))
+    GTEST_SKIP() << "a platform other than PoCL is present";
+  const auto r = run_cli("devices", "POCL_CACHE_DIR=/proc/clr_no_such_folder");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("PoCL's kernel cache folder is not usable"));
+  EXPECT_THAT(r.err, HasSubstr("/proc/clr_no_such_folder"));
 }
 
 TEST(Cli, DevicesListsEveryDeviceAndMarksTheDefault) {
