@@ -1,6 +1,8 @@
 #include "cli/failure_message.hpp"
 
+#include <cerrno>
 #include <new>
+#include <system_error>
 
 #include "cl/error.hpp"
 
@@ -37,6 +39,50 @@ std::string failure_message(const std::exception& e, const std::string& command)
   std::string line = e.what();
   if (out_of_memory(e)) line += " — out of memory: " + what_to_lower(command);
   return line;
+}
+
+bool path_at_fault(const std::filesystem::filesystem_error& e) {
+  // What the path itself causes (a name too long, a file where a folder must be, a loop of links, no permission);
+  // a full disk or an I/O error is the machine's.
+  switch (e.code().value()) {
+    case ENAMETOOLONG:
+    case ENOTDIR:
+    case ELOOP:
+    case ENOENT:
+    case EACCES:
+    case EPERM:
+    case EROFS:
+    case EISDIR:
+    case EEXIST:
+      return e.code().category() == std::generic_category() || e.code().category() == std::system_category();
+    default:
+      return false;
+  }
+}
+
+std::string path_message(const std::filesystem::filesystem_error& e) {
+  std::string line = e.path1().string();
+  if (!e.path2().empty()) line += ", " + e.path2().string();
+  return line + ": " + e.code().message();
+}
+
+std::string bounded_line(std::string_view line) {
+  constexpr std::size_t kWord = 256, kKeep = 96, kLine = 4096;
+  std::string out;
+  for (std::size_t at = 0; at < line.size() && out.size() < kLine;) {
+    const std::size_t space = line.find(' ', at);
+    const std::size_t end = space == std::string_view::npos ? line.size() : space;
+    const std::string_view word = line.substr(at, end - at);
+    if (word.size() <= kWord)
+      out += word;
+    else
+      out += std::string(word.substr(0, kKeep)) + "…(" + std::to_string(word.size()) + " bytes)…" +
+             std::string(word.substr(word.size() - kKeep / 2));
+    if (end < line.size()) out += ' ';
+    at = end + 1;
+  }
+  if (out.size() > kLine) out = out.substr(0, kLine) + "…";
+  return out;
 }
 
 }  // namespace clr::cli

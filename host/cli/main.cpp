@@ -99,18 +99,27 @@ int run(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "clradiosity: error: " << rank_prefix() << e.what() << " (see --help)\n";
+    std::cerr << "clradiosity: error: " << rank_prefix() << clr::cli::bounded_line(e.what()) << " (see --help)\n";
     return 2;
   } catch (const clr::distributed::JobInputError& e) {
     // Every rank knows; rank 0 says it once.
     failed_together = true;
-    if (clr::distributed::Communicator::world().rank() == 0) std::cerr << "clradiosity: error: " << e.what() << "\n";
+    if (clr::distributed::Communicator::world().rank() == 0)
+      std::cerr << "clradiosity: error: " << clr::cli::bounded_line(e.what()) << "\n";
     return 2;
   } catch (const clr::InputError& e) {
-    std::cerr << "clradiosity: error: " << rank_prefix() << e.what() << "\n";
+    std::cerr << "clradiosity: error: " << rank_prefix() << clr::cli::bounded_line(e.what()) << "\n";
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {
+    if (!clr::cli::path_at_fault(e)) {
+      std::cerr << "clradiosity: failed: " << rank_prefix() << clr::cli::bounded_line(e.what()) << "\n";
+      return 1;
+    }
+    std::cerr << "clradiosity: error: " << rank_prefix() << clr::cli::bounded_line(clr::cli::path_message(e)) << "\n";
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "clradiosity: failed: " << rank_prefix() << clr::cli::failure_message(e, command) << "\n";
+    std::cerr << "clradiosity: failed: " << rank_prefix()
+              << clr::cli::bounded_line(clr::cli::failure_message(e, command)) << "\n";
     return 1;
   }
 }

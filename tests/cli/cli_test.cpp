@@ -32,6 +32,21 @@ TEST(Cli, UsageErrorsExitTwoWithOneLine) {
   }
 }
 
+// Whatever a message quotes — a path, a value, a device spec — a 100 KB argument is not echoed whole.
+TEST(Cli, AHugeArgumentIsNotEchoedWhole) {
+  const std::string huge(50000, 'x');  // two of them stay below the kernel's limit on one argument (128 KiB)
+  const std::string box = std::string(CLR_SOURCE_DIR) + "/scenes/cornell-box.xml";
+  for (const std::string& args :
+       {"devices --device " + huge, "train " + box + " --steps 1 --method " + huge + " -o /tmp/r",
+        "render " + huge + ".xml --model r -o a.exr", "render " + box + " --model /tmp/" + huge + " -o a.exr",
+        "compare " + huge + " " + huge, "train " + box + " --steps " + huge + " -o /tmp/r", "--" + huge}) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args.substr(0, 60);
+    EXPECT_LT(r.err.size(), 1024u) << args.substr(0, 60);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args.substr(0, 60);
+  }
+}
+
 TEST(Cli, BadDeviceExitsTwoAndListsDevices) {
   const auto devices = cl::list_devices();
   if (devices.empty()) GTEST_SKIP() << "no OpenCL platform on this machine";

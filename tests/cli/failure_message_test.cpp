@@ -39,5 +39,19 @@ TEST(FaultMessage, OtherErrorsAreLeftAsTheyAre) {
   for (const char c : line) EXPECT_NE(c, '\n') << "one line";
 }
 
+TEST(FaultMessage, ABoundedLineKeepsShortWordsAndClipsLongOnes) {
+  const std::string path = "/runs/" + std::string(300, 'a') + "/model.clr";
+  const std::string line = cli::bounded_line("checkpoint " + path + " not found");
+  EXPECT_THAT(line, HasSubstr("checkpoint /runs/aaa"));
+  EXPECT_THAT(line, HasSubstr("…(316 bytes)…"));
+  EXPECT_THAT(line, HasSubstr("/model.clr not found")) << "the end of a clipped word stays";
+  EXPECT_LT(line.size(), 220u);
+  const std::string plain = "--steps: 0 is not ≥ 1 (a budget of 255 characters is fine: " + std::string(250, 'b') + ")";
+  EXPECT_EQ(cli::bounded_line(plain), plain);
+  std::string many;
+  for (int i = 0; i < 10000; ++i) many += "word ";
+  EXPECT_LE(cli::bounded_line(many).size(), 4096u + 4);
+}
+
 }  // namespace
 }  // namespace clr::test
