@@ -156,6 +156,16 @@ void run_sweep(cl::Context& ctx, const SweepOptions& options) {
   const int width = o.width > 0 ? o.width : scene.camera.width, height = o.height > 0 ? o.height : scene.camera.height;
   image::check_image_size(width, height, "--width × --height");
   const fs::path results = o.dir / "results.csv";
+  // The files SWEEP_DIR holds under fixed names must not be the sweep's inputs (a reference kept in SWEEP_DIR as
+  // reference.png would not be, but as reference.exr it would be replaced when no --reference is given).
+  std::vector<fs::path> inputs = scene.files;
+  inputs.push_back(o.reference);
+  require_outputs({{results, "results.csv in -o"},
+                   {o.dir / "tables.md", "tables.md in -o"},
+                   {o.dir / "sweep.json", "sweep.json in -o"},
+                   {o.dir / "reference.png", "reference.png in -o"},
+                   {o.reference.empty() ? o.dir / "reference.exr" : fs::path(), "reference.exr in -o"}},
+                  inputs);
   // Read before any work: a damaged file is bad input, not a reason to train again.
   std::vector<Row> rows = read_results(results);
   const RunLock lock(o.dir);  // one sweep per SWEEP_DIR

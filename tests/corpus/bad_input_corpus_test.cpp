@@ -304,6 +304,8 @@ const std::vector<Case>& cases() {
        "is the input"},
       {"png_is_output", "render '{box}' --model '{t}/hostile_run' -o '{t}/out.exr' --png '{t}/out.exr'", 2,
        "is also the output of -o"},
+      {"sweep_output_is_scene", "sweep '{t}/sweep_holds_scene/tables.md' --minutes 1 -o '{t}/sweep_holds_scene'", 2,
+       "tables.md in -o: output"},
       {"error_map_is_reference", "compare '{t}/nan.exr' '{t}/nan.exr' --error-map '{t}/nan.exr'", 2, "is the input"},
       // Coordinates a single-precision ray tracer cannot take are refused before Embree sees them.
       {"camera_far", "render '{box}' --model '{t}/hostile_run' --camera 1e20,0,0,0,0,0,0,1,0,40 -o '{t}/out.exr'", 2,
@@ -459,6 +461,8 @@ void generate(const fs::path& t) {
                                 R"(<translate x="1e30"/></transform></shape></scene>)");
   }
   fs::copy_file(kBox, t / "box_copy.xml");
+  fs::create_directories(t / "sweep_holds_scene");
+  fs::copy_file(kBox, t / "sweep_holds_scene" / "tables.md");
   fs::create_symlink(t / "box_copy.xml", t / "box_link.exr");
   // JSON: deeply nested, a 10 MB value, unknown keys inside the modules' patches, integers that would wrap.
   write(t / "deep.json", "{\"network\": " + std::string(100000, '[') + std::string(100000, ']') + "}");
