@@ -6,6 +6,7 @@
 
 #include "image/image.hpp"
 #include "radiosity/surface_query.hpp"
+#include "scene/camera.hpp"
 
 namespace clr::radiosity {
 
@@ -21,5 +22,14 @@ struct RenderSettings {
 };
 
 image::Image render(const geometry::Geometry& geometry, const RadianceQuery& field, const RenderSettings& settings);
+
+// Frames of several cameras (a camera path) rendered back to back: the chunks of camera samples that go to the
+// field span frames, so that frames too small to fill the device alone do not leave it idle between them. Each
+// frame is the image `render` gives with its camera (the same sample streams). `done(i, image)` receives frame i,
+// in order, as soon as its last sample is in; `stop()` is asked between chunks — the frames done stay done.
+void render_frames(const geometry::Geometry& geometry, std::span<const scene::Camera> cameras,
+                   const RadianceQuery& field, const RenderSettings& settings,
+                   const std::function<void(std::size_t frame, image::Image&& image)>& done,
+                   const std::function<bool()>& stop = {});
 
 }  // namespace clr::radiosity

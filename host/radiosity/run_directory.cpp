@@ -173,6 +173,8 @@ std::vector<fs::path> RunDirectory::input_files(const fs::path& run) {
   return {fs::is_directory(run) ? model_path(run) : run, config_path(dir), log_path(dir), scene_path(dir)};
 }
 
+double RunDirectory::training_seconds(const fs::path& run) { return logged_seconds(log_path(run_folder(run))); }
+
 void RunDirectory::require_scene(const fs::path& run, const scene::SceneFingerprint& scene) {
   const auto recorded = read_scene(run_folder(run));
   // A run written before runs recorded their scene (or not a run at all: reading it fails next, with its own

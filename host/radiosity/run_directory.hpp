@@ -75,6 +75,8 @@ class RunDirectory {
   static std::unique_ptr<nn::Network> load_guide(cl::Context& ctx, const std::filesystem::path& run);
   // The run's settings as saved (InputError naming the file when it is missing or malformed).
   static TrainConfig load_config(const std::filesystem::path& run);
+  // The training time of every session of `run` (a run directory or its model.clr): log.csv's last row.
+  static double training_seconds(const std::filesystem::path& run);
 
  private:
   RunDirectory(const std::filesystem::path& dir, bool create);

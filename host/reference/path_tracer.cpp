@@ -106,7 +106,7 @@ class PathTracer {
 }  // namespace
 
 image::Image render(const geometry::Geometry& geometry, const RenderOptions& options, RenderStats* stats) {
-  const scene::Camera camera = geometry.scene().camera.resized(options.width, options.height);
+  const scene::Camera camera = options.camera.value_or(geometry.scene().camera).resized(options.width, options.height);
   image::check_image_size(camera.width, camera.height, "--width × --height");
   const PathTracer tracer(geometry, options.max_depth.value_or(geometry.scene().max_depth));
   image::Image img(camera.width, camera.height);

@@ -12,7 +12,8 @@
 namespace clr::reference {
 
 struct RenderOptions {
-  int width = 0, height = 0;  // 0: the scene's film
+  int width = 0, height = 0;            // 0: the scene's film
+  std::optional<scene::Camera> camera;  // another view than the scene's sensor (a frame of a camera path)
   int spp = 16;
   // Longest path in segments (1: emitters seen directly only); -1: unbounded (roulette ends it). Unset: the
   // scene's integrator max_depth.

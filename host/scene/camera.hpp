@@ -3,6 +3,7 @@
 // (Mitsuba's convention): `perspective` (a pinhole, the field of view measured along `fov_axis`), `thinlens` (the
 // same with a circular aperture focused at `focus_distance`) and `orthographic` (parallel rays through the
 // to_world image of [-1, 1] × [-h/w, h/w]).
+#include <optional>
 #include <string>
 
 #include "scene/frame.hpp"
@@ -38,5 +39,9 @@ struct Camera {
   // non-degenerate view direction and a field of view in (0, 180) degrees.
   void validate(const std::string& what) const;
 };
+
+// Mitsuba's look-at frame as a to_world matrix: +z towards the target, +x = up × z (the image's left), +y the image's
+// up; nullopt when the target is the origin or up is parallel to the view.
+std::optional<glm::mat4> look_at(const Vec3& origin, const Vec3& target, const Vec3& up);
 
 }  // namespace clr::scene

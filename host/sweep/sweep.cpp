@@ -1,27 +1,21 @@
 #include "sweep/sweep.hpp"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <map>
 
 #include "common/atomic_file.hpp"
 #include "common/digest.hpp"
 #include "common/error.hpp"
-#include "common/input_file.hpp"
+#include "common/folder_record.hpp"
 #include "common/run_lock.hpp"
 #include "common/stop_signal.hpp"
+#include "common/subprocess.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/fingerprint.hpp"
 #include "sweep/configuration_run.hpp"
 #include "sweep/path_tracing.hpp"
 #include "sweep/tables.hpp"
-
-extern char** environ;
 
 namespace clr::sweep {
 namespace fs = std::filesystem;
@@ -70,27 +64,11 @@ image::Image reference_image(const geometry::Geometry& geometry, const SweepOpti
 
 // Runs bench/plot_sweep.py on SWEEP_DIR when a python3 has matplotlib; the CSV and tables never depend on it.
 void draw_figures(const SweepOptions& o) {
-  const auto spawn = [](std::vector<std::string> args, bool quiet) {
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    if (quiet) {
-      posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-      posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-    }
-    pid_t pid = 0;
-    int status = -1;
-    if (posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0) waitpid(pid, &status, 0);
-    posix_spawn_file_actions_destroy(&actions);
-    return WIFEXITED(status) && WEXITSTATUS(status) == 0;
-  };
   if (o.plot_script.empty()) return;
   // python3-matplotlib installs for Debian's interpreter, which a pyenv or conda python3 first on PATH hides.
   std::string python;
   for (const char* candidate : {"python3", "/usr/bin/python3"})
-    if (spawn({candidate, "-c", "import matplotlib"}, true)) {
+    if (run_program({candidate, "-c", "import matplotlib"}, true)) {
       python = candidate;
       break;
     }
@@ -99,7 +77,7 @@ void draw_figures(const SweepOptions& o) {
     return;
   }
   std::fflush(stdout);
-  if (!spawn({python, o.plot_script.string(), o.dir.string()}, false))
+  if (!run_program({python, o.plot_script.string(), o.dir.string()}, false))
     std::printf("sweep: figures failed: %s exited with an error (the tables are complete)\n", o.plot_script.c_str());
 }
 
@@ -115,31 +93,6 @@ nlohmann::json defining_options(const SweepOptions& o, const scene::Scene& scene
           {"residual_points", o.residual_points},
           {"residual_samples", o.residual_samples},
           {"config", o.base}};
-}
-
-// SWEEP_DIR/sweep.json records the defining options of its first run; a rerun must give the same.
-void require_same_sweep(const fs::path& dir, const nlohmann::json& options) {
-  const fs::path file = dir / "sweep.json";
-  if (!fs::exists(file) && !fs::is_symlink(file)) {
-    write_text_atomically(file, options.dump(2) + "\n");
-    return;
-  }
-  const nlohmann::json recorded = read_json_file(file, "sweep record");
-  static const std::map<std::string, std::string> option_of = {
-      {"scene", "the scene (its files)"},
-      {"reference", "--reference (its content) or --reference-spp"},
-      {"width", "--width"},
-      {"height", "--height"},
-      {"render_spp", "--spp"},
-      {"residual_points", "--residual-points"},
-      {"residual_samples", "--residual-samples"},
-      {"config", "--config"}};
-  for (const auto& [key, value] : options.items())
-    if (!recorded.is_object() || !recorded.contains(key) || recorded.at(key) != value)
-      throw InputError(dir.string() + " holds a sweep made with other settings: " + option_of.at(key) + " was " +
-                       clip(recorded.is_object() && recorded.contains(key) ? recorded.at(key).dump() : "absent") +
-                       ", now " + clip(value.dump()) + " (" + file.string() +
-                       "); rows measured both ways would share one table: use another sweep directory");
 }
 
 }  // namespace
@@ -170,7 +123,15 @@ void run_sweep(cl::Context& ctx, const SweepOptions& options) {
   std::vector<Row> rows = read_results(results);
   const RunLock lock(o.dir);  // one sweep per SWEEP_DIR
   require_writable_directory(o.dir, "sweep directory");
-  require_same_sweep(o.dir, defining_options(o, scene, width, height));
+  require_same_record(o.dir / "sweep.json", defining_options(o, scene, width, height), "a sweep",
+                      {{"scene", "the scene (its files)"},
+                       {"reference", "--reference (its content) or --reference-spp"},
+                       {"width", "--width"},
+                       {"height", "--height"},
+                       {"render_spp", "--spp"},
+                       {"residual_points", "--residual-points"},
+                       {"residual_samples", "--residual-samples"},
+                       {"config", "--config"}});
   install_stop_handlers();
   const geometry::Geometry geometry(scene);
   const image::Image reference = reference_image(geometry, o, width, height);

@@ -134,5 +134,48 @@ TEST(Renderer, ChunksOfAnySizeGiveTheSameImage) {
   EXPECT_EQ(pieces.rgb, whole.rgb);
 }
 
+// Frames rendered back to back, with chunks of samples that span frames (and cut frames anywhere), are each the
+// image a single render of that camera gives: the same sample streams, the same sums.
+TEST(Renderer, FramesBackToBackAreTheSingleRendersOfTheirCameras) {
+  auto scene = scene::load_scene(kScenes / "cornell-box.xml", {{"res", "16"}});
+  std::vector<scene::Camera> cameras;
+  for (const float x : {0.0f, 0.4f, -0.3f}) {
+    scene::Camera c = scene.camera;
+    c.to_world = *scene::look_at({x, 1.0f, 6.8f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f});
+    cameras.push_back(c);
+  }
+  const RadianceQuery where = [](std::span<const float> rows, std::span<float> rgb) {
+    for (std::size_t r = 0; r < rows.size() / nn::kRawInputs; ++r)
+      for (int c = 0; c < 3; ++c) rgb[3 * r + c] = rows[r * nn::kRawInputs + nn::raw::kPosition + std::size_t(c)];
+  };
+  RenderSettings settings;
+  settings.spp = 3;
+  for (const std::size_t chunk : {std::size_t(1) << 16, std::size_t(700), std::size_t(768)}) {
+    settings.rows_per_query = chunk;  // one frame is 16·16·3 = 768 samples: 700 cuts inside frames
+    std::vector<image::Image> frames;
+    std::vector<std::size_t> order;
+    render_frames(geometry::Geometry(scene), cameras, where, settings, [&](std::size_t i, image::Image&& img) {
+      order.push_back(i);
+      frames.push_back(std::move(img));
+    });
+    ASSERT_EQ(order, (std::vector<std::size_t>{0, 1, 2})) << "every frame once, in order";
+    for (std::size_t i = 0; i < cameras.size(); ++i) {
+      scene::Scene single = scene::load_scene(kScenes / "cornell-box.xml", {{"res", "16"}});
+      single.camera = cameras[i];
+      const auto alone = render(geometry::Geometry(single), where, settings);
+      EXPECT_EQ(frames[i].rgb, alone.rgb) << "frame " << i << ", chunk " << chunk;
+    }
+    EXPECT_NE(frames[0].rgb, frames[1].rgb) << "the cameras differ";
+  }
+  // A stop between chunks keeps the frames done and renders no more.
+  settings.rows_per_query = 768;
+  int calls = 0;
+  std::size_t delivered = 0;
+  render_frames(
+      geometry::Geometry(scene), cameras, where, settings, [&](std::size_t, image::Image&&) { ++delivered; },
+      [&] { return ++calls > 2; });
+  EXPECT_EQ(delivered, 2u);
+}
+
 }  // namespace
 }  // namespace clr::radiosity

@@ -52,6 +52,14 @@ namespace {
 bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 }  // namespace
 
+std::optional<glm::mat4> look_at(const Vec3& origin, const Vec3& target, const Vec3& up) {
+  const Vec3 dir = target - origin, left = glm::cross(up, dir);
+  if (!(glm::length(dir) > 0) || !(glm::length(left) > 0)) return std::nullopt;
+  const Vec3 d = glm::normalize(dir), l = glm::normalize(left), u = glm::cross(d, l);
+  if (!finite(d) || !finite(l)) return std::nullopt;  // lengths that underflow when squared
+  return glm::mat4(glm::vec4(l, 0), glm::vec4(u, 0), glm::vec4(d, 0), glm::vec4(origin, 1));
+}
+
 void Camera::validate(const std::string& what) const {
   const Vec3 origin(to_world * glm::vec4(0, 0, 0, 1)), view(to_world * glm::vec4(0, 0, 1, 0));
   if (!finite(origin) || glm::any(glm::greaterThan(glm::abs(origin), Vec3(kMaxCoordinate))))

@@ -10,6 +10,7 @@
 
 #include "common/error.hpp"
 #include "common/input_file.hpp"
+#include "scene/camera.hpp"
 #include "scene/xml/spectrum.hpp"
 
 namespace clr::scene::xml {
@@ -253,10 +254,9 @@ glm::mat4 Node::transform() const {
         const float sign = std::copysign(1.0f, n.z), a = -1.0f / (sign + n.z), b = n.x * n.y * a;
         up = Vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
       }
-      const Vec3 left = glm::cross(up, dir);
-      if (!(glm::length(dir) > 0) || !(glm::length(left) > 0)) op.fail("degenerate lookat (up parallel to view)");
-      const Vec3 d = glm::normalize(dir), l = glm::normalize(left), u = glm::cross(d, l);
-      step = glm::mat4(glm::vec4(l, 0), glm::vec4(u, 0), glm::vec4(d, 0), glm::vec4(origin, 1));
+      const auto frame = look_at(origin, target, up);
+      if (!frame) op.fail("degenerate lookat (up parallel to view)");
+      step = *frame;
     } else {
       op.fail("unsupported transform operation");
     }

@@ -1,0 +1,48 @@
+#include "walkthrough/video.hpp"
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "common/atomic_file.hpp"
+#include "common/error.hpp"
+#include "common/subprocess.hpp"
+
+namespace clr::walkthrough {
+namespace {
+
+// ffmpeg's muxer and codec options for each container: the temporary name hides the extension from ffmpeg.
+std::vector<std::string> format_arguments(const std::filesystem::path& video) {
+  const std::string ext = video.extension().string();
+  // H.264 in 4:2:0 needs even sizes: a frame of odd size is padded by one pixel.
+  if (ext == ".mp4")
+    return {"-c:v", "libx264", "-pix_fmt", "yuv420p", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-f", "mp4"};
+  if (ext == ".webm") return {"-c:v", "libvpx-vp9", "-pix_fmt", "yuv420p", "-f", "webm"};
+  if (ext == ".gif") return {"-f", "gif"};
+  return {};
+}
+
+}  // namespace
+
+void require_video_writer(const std::filesystem::path& video) {
+  if (format_arguments(video).empty())
+    throw InputError("--video " + video.string() + ": give a .mp4, .webm or .gif file");
+  if (find_program("ffmpeg").empty())
+    throw InputError("--video: ffmpeg is not installed (apt-get install ffmpeg); the frames alone need no --video");
+}
+
+void write_video(const std::filesystem::path& frames_dir, std::size_t frames, double fps,
+                 const std::filesystem::path& video) {
+  write_atomically(video, [&](const std::filesystem::path& tmp) {
+    std::vector<std::string> args = {"ffmpeg",     "-y",
+                                     "-loglevel",  "error",
+                                     "-framerate", std::to_string(fps),
+                                     "-i",         (frames_dir / "frame_%05d.png").string(),
+                                     "-frames:v",  std::to_string(frames)};
+    for (auto& a : format_arguments(video)) args.push_back(a);
+    args.push_back(tmp.string());
+    if (!run_program(args, false)) throw std::runtime_error("ffmpeg failed to write " + video.string());
+  });
+}
+
+}  // namespace clr::walkthrough
