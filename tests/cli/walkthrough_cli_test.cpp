@@ -1,0 +1,151 @@
+// `render --path/--orbit` as a user runs it: frames into a folder, a rerun that renders only what is missing, Ctrl-C
+// that keeps finished frames, a folder of other frames refused, the video (or the message without ffmpeg), and the
+// break-even check.
+#include <fcntl.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "common/subprocess.hpp"
+#include "support/cli_run_dir.hpp"
+#include "support/run_cli.hpp"
+
+namespace clr::test {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+const std::string kBox = (fs::path(CLR_SOURCE_DIR) / "scenes" / "cornell-box.xml").string();
+
+class WalkthroughCli : public CliRunDir {
+ protected:
+  WalkthroughCli() : CliRunDir("walkthrough_cli") {}
+  void SetUp() override {
+    CliRunDir::SetUp();
+    if (HasFatalFailure() || IsSkipped()) return;
+    run = (dir / "run").string();
+    ASSERT_EQ(run_cli("train " + kBox + " --steps 2 --config " + config + " -o " + run).exit_code, 0);
+  }
+  std::string render(const std::string& args) const { return "render " + kBox + " --model " + run + " " + args; }
+  static std::size_t count(const fs::path& folder, const std::string& extension) {
+    std::size_t n = 0;
+    for (const auto& e : fs::directory_iterator(folder)) n += e.path().extension() == extension;
+    return n;
+  }
+  std::string run;
+};
+
+TEST_F(WalkthroughCli, FramesIntoAFolderAndARerunRendersOnlyWhatIsMissing) {
+  const fs::path frames = dir / "frames";
+  const std::string args = "--orbit 6 --width 16 --height 16 --spp 1 --png -o " + frames.string();
+  auto r = run_cli(render(args));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(count(frames, ".exr"), 6u);
+  EXPECT_EQ(count(frames, ".png"), 6u);
+  EXPECT_THAT(r.out, HasSubstr("6 rendered now"));
+  const auto written = fs::last_write_time(frames / "frame_00003.exr");
+  fs::remove(frames / "frame_00004.exr");
+  r = run_cli(render(args));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("1 rendered now"));
+  EXPECT_THAT(r.out, HasSubstr("5 from an earlier run"));
+  EXPECT_EQ(fs::last_write_time(frames / "frame_00003.exr"), written);
+
+  // Other frames into the same folder are refused, naming what changed; nothing is written.
+  for (const auto& [other, culprit] :
+       std::vector<std::pair<std::string, std::string>>{{"--orbit 6 --width 16 --height 16 --spp 2", "--spp"},
+                                                        {"--orbit 7 --width 16 --height 16 --spp 1", "--orbit"},
+                                                        {"--orbit 6 --width 8 --height 16 --spp 1", "--width"}}) {
+    r = run_cli(render(other + " -o " + frames.string()));
+    EXPECT_EQ(r.exit_code, 2) << other << ": " << r.err;
+    EXPECT_THAT(r.err, HasSubstr(culprit)) << other;
+    EXPECT_EQ(count(frames, ".exr"), 6u);
+  }
+  // Options that belong to one mode only.
+  for (const std::string& bad :
+       {render("--orbit 2 --png x.png -o " + (dir / "f2").string()), render("--video v.mp4 -o x.exr"),
+        render("--path-tracer-check 2 -o x.exr"), render("--orbit 2 --camera 0,1,6,0,1,0,0,1,0,40 -o f3"),
+        render("--orbit 2 --video v.avi -o " + (dir / "f4").string())}) {
+    r = run_cli(bad);
+    EXPECT_EQ(r.exit_code, 2) << bad << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << bad << ": " << r.err;
+  }
+}
+
+TEST_F(WalkthroughCli, InterruptKeepsFinishedFramesAndARerunCompletes) {
+  const fs::path frames = dir / "frames";
+  const std::string args = "--orbit 1500 --width 32 --height 32 --spp 2 -o " + frames.string();
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    dup2(null, 1);
+    dup2(null, 2);
+    execl("/bin/sh", "sh", "-c", ("exec " + std::string(CLR_CLI_PATH) + " " + render(args)).c_str(),
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while ((!fs::exists(frames) || count(frames, ".exr") < 20) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  const std::size_t kept = count(frames, ".exr");
+  if (kept == 1500) GTEST_SKIP() << "the whole path rendered before the interrupt arrived";
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  EXPECT_GE(kept, 20u);
+  for (const auto& e : fs::directory_iterator(frames))
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << "left behind: " << e.path();
+  const auto r = run_cli(render(args));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr(std::to_string(kept) + " from an earlier run"));
+  EXPECT_EQ(count(frames, ".exr"), 1500u);
+}
+
+TEST_F(WalkthroughCli, AVideoWhereFfmpegIsAndAClearLineWhereItIsNot) {
+  const fs::path frames = dir / "frames", video = dir / "orbit.mp4";
+  const std::string args = "--orbit 4 --width 16 --height 16 --spp 1 --video " + video.string() + " -o ";
+  auto r = run_cli(render(args + (dir / "nowhere").string()), "PATH=/nonexistent");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("ffmpeg is not installed"));
+  EXPECT_FALSE(fs::exists(dir / "nowhere")) << "refused before any frame";
+  if (find_program("ffmpeg").empty()) GTEST_SKIP() << "ffmpeg is not installed (apt-get install ffmpeg)";
+  r = run_cli(render(args + frames.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("video: " + video.string()));
+  EXPECT_GT(fs::file_size(video), 0u);
+  EXPECT_EQ(count(frames, ".png"), 4u) << "the video is made from the PNGs";
+}
+
+TEST_F(WalkthroughCli, BreakEvenFiguresArePrintedAndWritten) {
+  const fs::path frames = dir / "frames";
+  const auto r = run_cli(
+      render("--orbit 5 --width 8 --height 8 --spp 2 --path-tracer-check 2 --check-spp 16 -o " + frames.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("break-even: model"));
+  const auto j = nlohmann::json::parse(std::ifstream(frames / "break_even.json"));
+  EXPECT_GT(j.at("model_seconds_per_frame").get<double>(), 0);
+  EXPECT_GT(j.at("path_tracer_seconds_per_frame").get<double>(), 0);
+  EXPECT_GT(j.at("training_seconds").get<double>(), 0);
+  ASSERT_EQ(j.at("checked_frames").size(), 2u);
+  EXPECT_EQ(j.at("checked_frames")[0].at("frame"), 0);
+  EXPECT_EQ(j.at("checked_frames")[1].at("frame"), 4) << "evenly spaced: the first and the last";
+  for (const auto& f : j.at("checked_frames")) {
+    EXPECT_GT(f.at("model_mape").get<double>(), 0);
+    EXPECT_GT(f.at("path_tracer_spp").get<int>(), 0);
+  }
+}
+
+}  // namespace
+}  // namespace clr::test
