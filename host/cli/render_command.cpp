@@ -86,6 +86,8 @@ int render_walkthrough(const Options& opt, const scene::Scene& scene, const geom
     check.reference_spp = opt.check_spp;
     check.settings = opt.settings;
     check.training_seconds = radiosity::RunDirectory::training_seconds(opt.model);
+    // The path's own throughput, where this process rendered it: more frames, a steadier figure than K.
+    if (done.rendered > 0) check.model_seconds_per_frame = done.seconds / double(done.rendered);
     const auto b = walkthrough::measure_break_even(geometry, cameras, field, check);
     for (const auto& c : b.checks)
       std::printf("frame %zu: model MAPE %.4f; path tracer %.2f s to reach it (%d spp measured%s)\n", c.frame,

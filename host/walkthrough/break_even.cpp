@@ -97,7 +97,8 @@ BreakEven measure_break_even(const geometry::Geometry& geometry, const std::vect
   const auto start = std::chrono::steady_clock::now();
   radiosity::render_frames(geometry, views, field, o.settings,
                            [&](std::size_t i, image::Image&& img) { model[i] = std::move(img); });
-  result.model_seconds_per_frame = seconds_since(start) / double(k);
+  result.model_seconds_per_frame =
+      o.model_seconds_per_frame > 0 ? o.model_seconds_per_frame : seconds_since(start) / double(k);
 
   for (std::size_t i = 0; i < k && !stop_requested(); ++i) {
     reference::RenderOptions ref;

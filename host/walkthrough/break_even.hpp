@@ -19,6 +19,9 @@ struct BreakEvenOptions {
   int reference_spp = 1024;
   radiosity::RenderSettings settings;  // the model's renders: size, spp, seed
   double training_seconds = 0;         // the run's, from its log
+  // The model's seconds per frame as the walkthrough measured them over its whole path (0: not measured in this
+  // process — the K frames are then timed back to back).
+  double model_seconds_per_frame = 0;
   // A frame's path tracing stops doubling before a pass expected to end past this many seconds; its time at the
   // model's MAPE is then extrapolated with MAPE ∝ time^-1/2 (the Monte Carlo rate) and marked so.
   double cap_seconds = 600;
