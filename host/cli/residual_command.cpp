@@ -40,7 +40,6 @@ Command add_residual_command(CLI::App& app) {
 
   return {cmd, [opt]() {
             const auto scene = scene::load_scene(opt->scene);
-            scene::require_trainable(scene, opt->scene);
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));
             const std::filesystem::path model = opt->model;

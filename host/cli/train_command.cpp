@@ -148,7 +148,6 @@ Command add_train_command(CLI::App& app) {
 
             const auto scene = scene::load_scene(opt->scene);
             scene::require_emitter(scene, opt->scene);
-            scene::require_trainable(scene, opt->scene);
             const geometry::Geometry geometry(scene);
             // Under mpirun each rank takes the next of the matching devices on its machine; rank 0 alone writes.
             const auto& ranks = distributed::Communicator::world();

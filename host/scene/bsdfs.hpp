@@ -42,6 +42,41 @@ class RoughDiffuse final : public Bsdf {
   bool fast_;
 };
 
+// Mitsuba 3's `principled` (Burley's Disney BSDF as Mitsuba defines it), its reflective part: a diffuse lobe with
+// retro-reflection and the fake subsurface of `flatness`, sheen, the main GGX lobe (anisotropic, with a Fresnel term
+// that blends the dielectric's, the metal's Schlick tinted by base_color and the spec_tint share) and the GTR1
+// clearcoat. The specular transmission lobe (`spec_trans` > 0) is refused by the loader. Black seen from below, as
+// Mitsuba's is without transmission. Sampling draws GGX normals from D·cos θm (Mitsuba: visible normals): a
+// different density, the same integral.
+class Principled final : public Bsdf {
+ public:
+  struct Params {
+    Texture base_color{Rgb(0.5f)};
+    float roughness = 0.5f, anisotropic = 0, metallic = 0, spec_tint = 0, sheen = 0, sheen_tint = 0, flatness = 0,
+          clearcoat = 0, clearcoat_gloss = 0;
+    float eta = 1.5f;  // from `eta`, or from `specular` as Mitsuba maps it
+    // Mitsuba's sampling rates of the lobes: they change the noise, not the expected value.
+    float specular_rate = 1, clearcoat_rate = 1, diffuse_rate = 1;
+  };
+  explicit Principled(Params params);
+  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const Vec2& uv) const override { return p_.base_color.eval(uv); }
+  float roughness() const override { return spec_.mean_alpha(); }
+  bool has_non_delta() const override { return true; }
+  bool anisotropic() const override { return spec_.anisotropic(); }
+
+ private:
+  struct Lobes {
+    float specular, clearcoat, diffuse;  // selection probabilities, summing to 1
+  };
+  Lobes lobes() const;
+  Params p_;
+  Microfacet spec_;        // the main lobe's GGX
+  float clearcoat_alpha_;  // GTR1's, from clearcoat_gloss
+};
+
 // Mitsuba 0.6's `phong`: Lambertian plus the normalised modified Phong lobe around the mirror direction.
 class Phong final : public Bsdf {
  public:

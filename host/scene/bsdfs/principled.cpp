@@ -1,0 +1,187 @@
+// Mitsuba 3's `principled` BSDF, read from its definition (src/bsdfs/principled.cpp, principledhelpers.h): the
+// lobes, their Fresnel blends and their sampling probabilities as Mitsuba weighs them, so that a scene renders as
+// Mitsuba renders it. Only the specular transmission lobe is missing (refused by name in the reader).
+#include <algorithm>
+#include <cmath>
+
+#include "scene/bsdfs.hpp"
+#include "scene/fresnel.hpp"
+#include "scene/loader/plugin.hpp"
+
+namespace clr::scene {
+namespace {
+
+// (1 − cos)^5, the Schlick weight.
+float schlick_weight(float cos_theta) {
+  const float m = std::clamp(1.0f - cos_theta, 0.0f, 1.0f);
+  return (m * m) * (m * m) * m;
+}
+
+// Schlick's Fresnel from R0 at the microfacet cosine cos_i, with Mitsuba's turn for light arriving from the denser
+// side (the refracted cosine then drives the weight).
+Rgb schlick(const Rgb& r0, float cos_i, float eta) {
+  const float eta_it = cos_i >= 0 ? eta : 1.0f / eta, eta_ti = 1.0f / eta_it;
+  float c = std::fabs(cos_i);
+  if (!(eta_it > 1.0f)) c = std::sqrt(std::fmax(0.0f, 1.0f - (1.0f - cos_i * cos_i) * eta_ti * eta_ti));
+  return r0 + (Rgb(1.0f) - r0) * schlick_weight(c);
+}
+
+float r0_of_eta(float eta) { return ((eta - 1.0f) / (eta + 1.0f)) * ((eta - 1.0f) / (eta + 1.0f)); }
+
+// The clearcoat's GTR1 ("generalised Trowbridge–Reitz", γ = 1) normal distribution, sampled by its own D·cos θm.
+float gtr1_d(const Vec3& m, float alpha) {
+  const float a2 = alpha * alpha, c2 = m.z * m.z;
+  const float d = (a2 - 1.0f) / (kPi * std::log(a2) * (1.0f + (a2 - 1.0f) * c2));
+  return d * m.z > 1e-20f ? d : 0.0f;
+}
+float gtr1_pdf(const Vec3& m, float alpha) { return m.z < 0 ? 0.0f : m.z * gtr1_d(m, alpha); }
+Vec3 gtr1_sample(const Vec2& u, float alpha) {
+  const float a2 = alpha * alpha, phi = 2.0f * kPi * u.x;
+  const float c2 = (1.0f - std::pow(a2, 1.0f - u.y)) / (1.0f - a2);
+  const float c = std::sqrt(std::fmax(0.0f, c2)), s = std::sqrt(std::fmax(0.0f, 1.0f - c2));
+  return {std::cos(phi) * s, std::sin(phi) * s, c};
+}
+
+// The clearcoat's shadowing: a GGX G1 of roughness 0.25 for each direction (Mitsuba's clearcoat_G).
+float smith_ggx1(const Vec3& v, const Vec3& m) {
+  if (glm::dot(v, m) * v.z <= 0) return 0.0f;
+  if (v.z == 1.0f) return 1.0f;
+  const float c2 = v.z * v.z, tan2 = (1.0f - c2) / c2;
+  return 2.0f / (1.0f + std::sqrt(1.0f + 0.0625f * tan2));
+}
+
+}  // namespace
+
+Principled::Principled(Params params) : p_(std::move(params)) {
+  // Mitsuba's mapping of roughness and anisotropy to the GGX alphas (Burley's course notes), floored at 0.001.
+  const float r2 = p_.roughness * p_.roughness;
+  spec_.type = Microfacet::Type::ggx;
+  if (p_.anisotropic != 0) {
+    const float aspect = std::sqrt(1.0f - 0.9f * p_.anisotropic);
+    spec_.alpha = std::fmax(0.001f, r2 / aspect);
+    spec_.alpha_v = std::fmax(0.001f, r2 * aspect);
+  } else {
+    spec_.alpha = std::fmax(0.001f, r2);
+  }
+  clearcoat_alpha_ = 0.1f + (0.001f - 0.1f) * p_.clearcoat_gloss;
+}
+
+Principled::Lobes Principled::lobes() const {
+  // Without transmission the main lobe's share is its sampling rate; the clearcoat carries a quarter of its energy.
+  Lobes l{p_.specular_rate, p_.clearcoat != 0 ? 0.25f * p_.clearcoat * p_.clearcoat_rate : 0.0f,
+          (1.0f - p_.metallic) * p_.diffuse_rate};
+  const float total = l.specular + l.clearcoat + l.diffuse;
+  if (!(total > 0)) return {0, 0, 0};
+  return {l.specular / total, l.clearcoat / total, l.diffuse / total};
+}
+
+Rgb Principled::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+  if (wo.z <= 0 || wi.z <= 0) return Rgb(0.0f);
+  const Rgb base = p_.base_color.eval(uv);
+  const float lum = luminance(base);
+  const Rgb tint = lum > 0 ? base / lum : Rgb(1.0f);
+  const Vec3 h = glm::normalize(wo + wi);
+  const float cos_oh = glm::dot(wo, h), cos_d = glm::dot(h, wi);
+  const float f_dielectric = fresnel_dielectric(cos_oh, p_.eta).reflectance;
+  const float metallic = p_.metallic, brdf = 1.0f - metallic;
+  Rgb value(0.0f);
+
+  // Main lobe: the dielectric's Fresnel, blended with the metal's (Schlick from base_color) and the tinted share.
+  if (f_dielectric > 0) {
+    const Rgb f = (1.0f - metallic) * (1.0f - p_.spec_tint) * Rgb(f_dielectric) +
+                  metallic * schlick(base, cos_oh, p_.eta) +
+                  (1.0f - metallic) * p_.spec_tint * schlick(tint * r0_of_eta(p_.eta), cos_oh, p_.eta);
+    value += f * (spec_.D(h) * spec_.G(wo, wi, h) / (4.0f * wo.z));
+  }
+  if (p_.clearcoat > 0) {
+    // Mitsuba's clearcoat: 0.25·clearcoat·F·D·G·cos θi, Schlick's F from R0 = 0.04.
+    const float f = schlick(Rgb(0.04f), cos_oh, p_.eta).x;
+    value += Rgb(0.25f * p_.clearcoat * f * gtr1_d(h, clearcoat_alpha_) * smith_ggx1(wo, h) * smith_ggx1(wi, h) * wi.z);
+  }
+  if (brdf > 0) {
+    const float fo = schlick_weight(wi.z), fi = schlick_weight(wo.z);
+    const float diffuse = (1.0f - 0.5f * fi) * (1.0f - 0.5f * fo);
+    const float rr = 2.0f * p_.roughness * cos_d * cos_d;
+    const float retro = rr * (fo + fi + fo * fi * (rr - 1.0f));
+    float shape = diffuse + retro;
+    if (p_.flatness != 0) {
+      // Hanrahan–Krueger's fake subsurface, its Fss90 tied to the retro-reflection's roughness term.
+      const float fss90 = 0.5f * rr;
+      const float fss = (1.0f + fo * (fss90 - 1.0f)) * (1.0f + fi * (fss90 - 1.0f));
+      const float subsurface = 1.25f * (fss * (1.0f / (wi.z + wo.z) - 0.5f) + 0.5f);
+      shape += p_.flatness * (subsurface - shape);
+    }
+    value += base * (brdf * wi.z * kInvPi * shape);
+    if (p_.sheen > 0) {
+      const Rgb sheen_colour = Rgb(1.0f) + p_.sheen_tint * (tint - Rgb(1.0f));
+      value += sheen_colour * (p_.sheen * brdf * schlick_weight(std::fabs(cos_d)) * wi.z);
+    }
+  }
+  return value;
+}
+
+float Principled::pdf(const Vec2&, const Vec3& wo, const Vec3& wi) const {
+  if (wo.z <= 0 || wi.z <= 0) return 0.0f;
+  const Lobes l = lobes();
+  const Vec3 h = glm::normalize(wo + wi);
+  const float jacobian = 1.0f / (4.0f * std::fabs(glm::dot(wi, h)));  // dω_h / dω_i of a reflection
+  float p = l.diffuse * cosine_hemisphere_pdf(wi.z);
+  p += l.specular * spec_.pdf_m(h) * jacobian;
+  if (l.clearcoat > 0) p += l.clearcoat * gtr1_pdf(h, clearcoat_alpha_) * jacobian;
+  return p;
+}
+
+std::optional<BsdfSample> Principled::sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const {
+  if (wo.z <= 0) return std::nullopt;
+  const Lobes l = lobes();
+  Vec3 wi;
+  if (u_lobe < l.diffuse)
+    wi = sample_cosine_hemisphere(u);
+  else if (u_lobe < l.diffuse + l.clearcoat)
+    wi = reflect(wo, gtr1_sample(u, clearcoat_alpha_));
+  else
+    wi = reflect(wo, spec_.sample_m(u));
+  if (wi.z <= 0) return std::nullopt;
+  const float p = pdf(uv, wo, wi);
+  if (!(p > 0)) return std::nullopt;
+  return BsdfSample{wi, eval(uv, wo, wi) / p, p, false};
+}
+
+}  // namespace clr::scene
+
+namespace clr::scene::loader {
+std::shared_ptr<const Bsdf> read_principled(Context& ctx, const Props& p) {
+  // Refused rather than dropped: without it a glassy principled material would render opaque.
+  if (p.number("spec_trans", 0.0f) != 0.0f)
+    p.expect("spec_trans", {"float"}).fail("spec_trans (principled's specular transmission lobe) is not supported yet");
+  Principled::Params q;
+  q.base_color = ctx.texture(p, "base_color", Rgb(0.5f));
+  q.roughness = p.number("roughness", 0.5f);
+  q.anisotropic = p.number("anisotropic", 0.0f);
+  q.metallic = p.number("metallic", 0.0f);
+  q.spec_tint = p.number("spec_tint", 0.0f);
+  q.sheen = p.number("sheen", 0.0f);
+  q.sheen_tint = p.number("sheen_tint", 0.0f);
+  q.flatness = p.number("flatness", 0.0f);
+  q.clearcoat = p.number("clearcoat", 0.0f);
+  q.clearcoat_gloss = p.number("clearcoat_gloss", 0.0f);
+  q.specular_rate = p.number("main_specular_sampling_rate", 1.0f);
+  q.clearcoat_rate = p.number("clearcoat_sampling_rate", 1.0f);
+  q.diffuse_rate = p.number("diffuse_reflectance_sampling_rate", 1.0f);
+  if (p.has("eta") && p.has("specular")) p.node.fail("give either 'eta' or 'specular', not both (as Mitsuba)");
+  if (p.has("eta")) {
+    q.eta = p.number("eta", 1.5f);
+    if (!(q.eta > 0)) p.expect("eta", {"float"}).fail("eta must be positive");
+  } else {
+    // Mitsuba's one-to-one map from `specular` (R0 = 0.08·specular) to the relative IOR.
+    const float specular = p.number("specular", 0.5f);
+    if (!(specular >= 0 && specular < 12.5f)) p.expect("specular", {"float"}).fail("specular must lie in [0, 12.5)");
+    q.eta = 2.0f / (1.0f - std::sqrt(0.08f * specular)) - 1.0f;
+  }
+  for (const float rate : {q.specular_rate, q.clearcoat_rate, q.diffuse_rate})
+    if (!(rate >= 0)) p.node.fail("sampling rates must be non-negative");
+  if (!(q.roughness >= 0 && q.anisotropic >= 0 && q.anisotropic <= 1))
+    p.node.fail("roughness must be non-negative and anisotropic within [0, 1]");
+  return std::make_shared<Principled>(std::move(q));
+}
+}  // namespace clr::scene::loader

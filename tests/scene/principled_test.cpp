@@ -1,0 +1,109 @@
+// Mitsuba 3's `principled` BSDF: eval against Mitsuba's own values at fixed directions (the table comes from
+// tests/scene/mitsuba_principled.py), and the loader's refusals. Sampling (χ², weights) is in bsdf_test.cpp.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/error.hpp"
+#include "scene/bsdfs.hpp"
+#include "scene/scene.hpp"
+#include "scene_files.hpp"
+
+namespace clr::test {
+namespace {
+
+using scene::Rgb;
+using scene::Vec3;
+
+Vec3 direction(float theta_degrees, float phi_degrees) {
+  const float t = theta_degrees * scene::kPi / 180.0f, p = phi_degrees * scene::kPi / 180.0f;
+  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
+}
+
+// The same four materials as the script's dictionaries, as scene XML.
+std::string material(const std::string& name) {
+  if (name == "default") return R"(<bsdf type="principled"/>)";
+  if (name == "metallic_aniso")
+    return R"(<bsdf type="principled"><rgb name="base_color" value="0.9, 0.6, 0.2"/>
+      <float name="metallic" value="0.7"/><float name="roughness" value="0.3"/>
+      <float name="anisotropic" value="0.6"/><float name="spec_tint" value="0.4"/></bsdf>)";
+  if (name == "coat_sheen_flat")
+    return R"(<bsdf type="principled"><rgb name="base_color" value="0.2, 0.5, 0.8"/>
+      <float name="clearcoat" value="0.8"/><float name="clearcoat_gloss" value="0.5"/>
+      <float name="sheen" value="0.6"/><float name="sheen_tint" value="0.5"/><float name="flatness" value="0.4"/>
+      <float name="roughness" value="0.6"/></bsdf>)";
+  return R"(<bsdf type="principled"><rgb name="base_color" value="0.3, 0.3, 0.3"/>
+      <float name="roughness" value="0.2"/><float name="eta" value="1.8"/><float name="spec_tint" value="1"/></bsdf>)";
+}
+
+struct MitsubaValue {
+  const char* material;
+  float wo[2], wi[2];  // θ, φ in degrees; wo towards the viewer, wi towards the light
+  float rgb[3];        // f·cos θi
+};
+
+class Principled : public SceneFiles {};
+
+TEST_F(Principled, EvalMatchesMitsuba3) {
+  const MitsubaValue table[] = {
+      {"default", {30, 20}, {40, 200}, {0.172142f, 0.172142f, 0.172142f}},
+      {"default", {60, 0}, {55, 180}, {0.2653967f, 0.2653967f, 0.2653967f}},
+      {"default", {10, 90}, {70, 45}, {0.05697767f, 0.05697767f, 0.05697767f}},
+      {"default", {75, 30}, {20, 250}, {0.1573931f, 0.1573931f, 0.1573931f}},
+      {"default", {45, 0}, {45, 180}, {0.200282f, 0.200282f, 0.200282f}},
+      {"metallic_aniso", {30, 20}, {40, 200}, {2.868927f, 1.924082f, 0.6642899f}},
+      {"metallic_aniso", {60, 0}, {55, 180}, {10.33661f, 7.055972f, 2.681789f}},
+      {"metallic_aniso", {10, 90}, {70, 45}, {0.03030776f, 0.02020968f, 0.006745578f}},
+      {"metallic_aniso", {75, 30}, {20, 250}, {0.1412398f, 0.09452306f, 0.03223404f}},
+      {"metallic_aniso", {45, 0}, {45, 180}, {8.961263f, 6.023808f, 2.107198f}},
+      {"coat_sheen_flat", {30, 20}, {40, 200}, {0.1028299f, 0.1691691f, 0.2355082f}},
+      {"coat_sheen_flat", {60, 0}, {55, 180}, {0.2015776f, 0.2616737f, 0.3217697f}},
+      {"coat_sheen_flat", {10, 90}, {70, 45}, {0.02365141f, 0.0561693f, 0.08868721f}},
+      {"coat_sheen_flat", {75, 30}, {20, 250}, {0.07328533f, 0.163758f, 0.2542306f}},
+      {"coat_sheen_flat", {45, 0}, {45, 180}, {0.2048893f, 0.2695728f, 0.3342562f}},
+      {"glossy_eta", {30, 20}, {40, 200}, {0.2156823f, 0.2156823f, 0.2156823f}},
+      {"glossy_eta", {60, 0}, {55, 180}, {2.151889f, 2.151889f, 2.151889f}},
+      {"glossy_eta", {10, 90}, {70, 45}, {0.03188397f, 0.03188397f, 0.03188397f}},
+      {"glossy_eta", {75, 30}, {20, 250}, {0.08421154f, 0.08421154f, 0.08421154f}},
+      {"glossy_eta", {45, 0}, {45, 180}, {5.943785f, 5.943785f, 5.943785f}},
+  };
+  for (const auto& t : table) {
+    const auto s = scene::load_scene(scene("<shape type=\"rectangle\">" + material(t.material) + "</shape>"));
+    const scene::Bsdf& bsdf = s.bsdf(s.shapes.at(0));
+    const Rgb v = bsdf.eval(scene::Vec2(0.5f), direction(t.wo[0], t.wo[1]), direction(t.wi[0], t.wi[1]));
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(v[c], t.rgb[c], 2e-3f * t.rgb[c] + 1e-6f)
+          << t.material << " wo (" << t.wo[0] << ", " << t.wo[1] << ") wi (" << t.wi[0] << ", " << t.wi[1]
+          << ") channel " << c;
+  }
+}
+
+TEST_F(Principled, BlackFromBelowWithoutTransmission) {
+  const auto s = scene::load_scene(scene("<shape type=\"rectangle\">" + material("coat_sheen_flat") + "</shape>"));
+  const scene::Bsdf& bsdf = s.bsdf(s.shapes.at(0));
+  EXPECT_EQ(bsdf.eval(scene::Vec2(0.5f), direction(120, 0), direction(130, 180)), Rgb(0.0f));
+  EXPECT_EQ(bsdf.eval(scene::Vec2(0.5f), direction(30, 0), direction(130, 180)), Rgb(0.0f));
+  EXPECT_FALSE(bsdf.sample(scene::Vec2(0.5f), direction(120, 0), 0.5f, {0.3f, 0.6f}));
+}
+
+TEST_F(Principled, RefusesWhatItDoesNotModelByName) {
+  const auto refused = [&](const std::string& bsdf) -> std::string {
+    try {
+      scene::load_scene(scene("<shape type=\"rectangle\">" + bsdf + "</shape>"));
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  EXPECT_THAT(refused(R"(<bsdf type="principled"><float name="spec_trans" value="0.5"/></bsdf>)"),
+              ::testing::HasSubstr("spec_trans"));
+  EXPECT_THAT(refused(R"(<bsdf type="principled"><float name="eta" value="1.5"/>
+                            <float name="specular" value="0.5"/></bsdf>)"),
+              ::testing::HasSubstr("either 'eta' or 'specular'"));
+  EXPECT_THAT(refused(R"(<bsdf type="principledthin"/>)"), ::testing::HasSubstr("principledthin"));
+  EXPECT_EQ(refused(R"(<bsdf type="principled"><float name="spec_trans" value="0"/></bsdf>)"), "accepted");
+}
+
+}  // namespace
+}  // namespace clr::test
