@@ -42,18 +42,19 @@ class RoughDiffuse final : public Bsdf {
   bool fast_;
 };
 
-// Mitsuba 3's `principled` (Burley's Disney BSDF as Mitsuba defines it), its reflective part: a diffuse lobe with
-// retro-reflection and the fake subsurface of `flatness`, sheen, the main GGX lobe (anisotropic, with a Fresnel term
-// that blends the dielectric's, the metal's Schlick tinted by base_color and the spec_tint share) and the GTR1
-// clearcoat. The specular transmission lobe (`spec_trans` > 0) is refused by the loader. Black seen from below, as
-// Mitsuba's is without transmission. Sampling draws GGX normals from D·cos θm (Mitsuba: visible normals): a
-// different density, the same integral.
+// Mitsuba 3's `principled` (Burley's Disney BSDF as Mitsuba defines it): a diffuse lobe with retro-reflection and
+// the fake subsurface of `flatness`, sheen, the main GGX lobe (anisotropic, with a Fresnel term that blends the
+// dielectric's, the metal's Schlick tinted by base_color and the spec_tint share), the GTR1 clearcoat, and with
+// `spec_trans` the rough transmission through the same GGX facets (two-sided then: seen from inside, only the main
+// lobe's reflection and transmission). Sampling draws GGX normals from D·cos θm (Mitsuba: visible normals) and
+// chooses reflection or transmission by the Fresnel factor at the drawn facet: a different density, the same
+// integral.
 class Principled final : public Bsdf {
  public:
   struct Params {
     Texture base_color{Rgb(0.5f)};
     float roughness = 0.5f, anisotropic = 0, metallic = 0, spec_tint = 0, sheen = 0, sheen_tint = 0, flatness = 0,
-          clearcoat = 0, clearcoat_gloss = 0;
+          clearcoat = 0, clearcoat_gloss = 0, spec_trans = 0;
     float eta = 1.5f;  // from `eta`, or from `specular` as Mitsuba maps it
     // Mitsuba's sampling rates of the lobes: they change the noise, not the expected value.
     float specular_rate = 1, clearcoat_rate = 1, diffuse_rate = 1;
@@ -66,12 +67,16 @@ class Principled final : public Bsdf {
   float roughness() const override { return spec_.mean_alpha(); }
   bool has_non_delta() const override { return true; }
   bool anisotropic() const override { return spec_.anisotropic(); }
+  bool two_sided() const override { return transmission_weight() > 0; }
 
  private:
   struct Lobes {
-    float specular, clearcoat, diffuse;  // selection probabilities, summing to 1
+    float specular, clearcoat, diffuse;  // selection probabilities, summing to 1 (or all 0: nothing to sample)
   };
-  Lobes lobes() const;
+  Lobes lobes(float cos_o) const;
+  float reflect_probability(float cos_o, float fresnel) const;
+  float transmission_weight() const { return (1.0f - p_.metallic) * p_.spec_trans; }         // Mitsuba's `bsdf`
+  float reflection_weight() const { return (1.0f - p_.metallic) * (1.0f - p_.spec_trans); }  // and `brdf`
   Params p_;
   Microfacet spec_;        // the main lobe's GGX
   float clearcoat_alpha_;  // GTR1's, from clearcoat_gloss

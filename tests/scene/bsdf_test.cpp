@@ -119,6 +119,16 @@ std::vector<Case> cases() {
                    .clearcoat_rate = 3.0f,
                    .diffuse_rate = 0.5f}),
        20},
+      {"principled_spec_trans_outside",
+       principled({.base_color = Rgb(0.8f, 0.9f, 0.6f),
+                   .roughness = 0.3f,
+                   .metallic = 0.1f,
+                   .sheen = 0.2f,
+                   .clearcoat = 0.3f,
+                   .spec_trans = 0.7f}),
+       40},
+      {"principled_spec_trans_inside", principled({.roughness = 0.4f, .spec_trans = 0.8f}), 150, 1.5f * 1.5f},
+      {"principled_spec_trans_full_grazing", principled({.roughness = 0.25f, .spec_trans = 1.0f, .eta = 1.33f}), 75},
   };
 }
 

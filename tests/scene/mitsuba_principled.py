@@ -12,7 +12,9 @@ cases = {
  'coat_sheen_flat': {'type':'principled','base_color':{'type':'rgb','value':[0.2,0.5,0.8]},'clearcoat':0.8,'clearcoat_gloss':0.5,'sheen':0.6,'sheen_tint':0.5,'flatness':0.4,'roughness':0.6},
  'glossy_eta': {'type':'principled','base_color':{'type':'rgb','value':[0.3,0.3,0.3]},'roughness':0.2,'eta':1.8,'spec_tint':1.0},
 }
-pairs=[((30,20),(40,200)),((60,0),(55,180)),((10,90),(70,45)),((75,30),(20,250)),((45,0),(45,180))]
+cases['spec_trans'] = {'type':'principled','base_color':{'type':'rgb','value':[0.8,0.9,0.6]},'spec_trans':0.7,'roughness':0.3,'eta':1.5,'metallic':0.1,'clearcoat':0.3,'sheen':0.2}
+cases['spec_trans_full_specular'] = {'type':'principled','spec_trans':1.0,'roughness':0.5,'specular':0.3}
+pairs=[((30,20),(40,200)),((60,0),(55,180)),((10,90),(70,45)),((75,30),(20,250)),((45,0),(45,180)),((30,20),(160,200)),((50,0),(140,170)),((150,10),(20,190)),((140,0),(135,180)),((170,30),(120,200))]
 out={}
 for name,c in cases.items():
     b=mi.load_dict(c)

@@ -1,5 +1,6 @@
-// Mitsuba 3's `principled` BSDF: eval against Mitsuba's own values at fixed directions (the table comes from
-// tests/scene/mitsuba_principled.py), and the loader's refusals. Sampling (χ², weights) is in bsdf_test.cpp.
+// Mitsuba 3's `principled` BSDF: eval against Mitsuba's own values at fixed directions, reflection and
+// transmission from either side (the table comes from tests/scene/mitsuba_principled.py), and the loader's refusals.
+// Sampling (χ², weights) is in bsdf_test.cpp.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -21,7 +22,7 @@ Vec3 direction(float theta_degrees, float phi_degrees) {
   return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
 }
 
-// The same four materials as the script's dictionaries, as scene XML.
+// The same materials as the script's dictionaries, as scene XML.
 std::string material(const std::string& name) {
   if (name == "default") return R"(<bsdf type="principled"/>)";
   if (name == "metallic_aniso")
@@ -33,13 +34,20 @@ std::string material(const std::string& name) {
       <float name="clearcoat" value="0.8"/><float name="clearcoat_gloss" value="0.5"/>
       <float name="sheen" value="0.6"/><float name="sheen_tint" value="0.5"/><float name="flatness" value="0.4"/>
       <float name="roughness" value="0.6"/></bsdf>)";
+  if (name == "spec_trans")
+    return R"(<bsdf type="principled"><rgb name="base_color" value="0.8, 0.9, 0.6"/>
+      <float name="spec_trans" value="0.7"/><float name="roughness" value="0.3"/><float name="eta" value="1.5"/>
+      <float name="metallic" value="0.1"/><float name="clearcoat" value="0.3"/><float name="sheen" value="0.2"/></bsdf>)";
+  if (name == "spec_trans_full_specular")
+    return R"(<bsdf type="principled"><float name="spec_trans" value="1"/><float name="roughness" value="0.5"/>
+      <float name="specular" value="0.3"/></bsdf>)";
   return R"(<bsdf type="principled"><rgb name="base_color" value="0.3, 0.3, 0.3"/>
       <float name="roughness" value="0.2"/><float name="eta" value="1.8"/><float name="spec_tint" value="1"/></bsdf>)";
 }
 
 struct MitsubaValue {
   const char* material;
-  float wo[2], wi[2];  // θ, φ in degrees; wo towards the viewer, wi towards the light
+  float wo[2], wi[2];  // θ, φ in degrees; wo towards the viewer, wi towards the light (θ > 90°: below)
   float rgb[3];        // f·cos θi
 };
 
@@ -67,6 +75,26 @@ TEST_F(Principled, EvalMatchesMitsuba3) {
       {"glossy_eta", {10, 90}, {70, 45}, {0.03188397f, 0.03188397f, 0.03188397f}},
       {"glossy_eta", {75, 30}, {20, 250}, {0.08421154f, 0.08421154f, 0.08421154f}},
       {"glossy_eta", {45, 0}, {45, 180}, {5.943785f, 5.943785f, 5.943785f}},
+      {"spec_trans", {30, 20}, {40, 200}, {0.4224079f, 0.4593702f, 0.348483f}},
+      {"spec_trans", {60, 0}, {55, 180}, {1.985543f, 2.115629f, 1.72537f}},
+      {"spec_trans", {10, 90}, {70, 45}, {0.0239695f, 0.02692616f, 0.01805616f}},
+      {"spec_trans", {75, 30}, {20, 250}, {0.06653778f, 0.07455449f, 0.05050438f}},
+      {"spec_trans", {45, 0}, {45, 180}, {1.796965f, 1.941116f, 1.508662f}},
+      {"spec_trans", {30, 20}, {160, 200}, {60.16114f, 63.81052f, 52.10108f}},
+      {"spec_trans", {50, 0}, {140, 170}, {0.1289997f, 0.1368248f, 0.111717f}},
+      {"spec_trans", {150, 10}, {20, 190}, {0.03168537f, 0.0336074f, 0.02744033f}},
+      {"spec_trans", {140, 0}, {135, 180}, {5.296346f, 5.296346f, 5.296346f}},
+      {"spec_trans", {170, 30}, {120, 200}, {0.001004412f, 0.001004412f, 0.001004412f}},
+      {"spec_trans_full_specular", {30, 20}, {40, 200}, {0.0307599f, 0.0307599f, 0.0307599f}},
+      {"spec_trans_full_specular", {60, 0}, {55, 180}, {0.1257168f, 0.1257168f, 0.1257168f}},
+      {"spec_trans_full_specular", {10, 90}, {70, 45}, {0.0006234078f, 0.0006234078f, 0.0006234078f}},
+      {"spec_trans_full_specular", {75, 30}, {20, 250}, {0.00513751f, 0.00513751f, 0.00513751f}},
+      {"spec_trans_full_specular", {45, 0}, {45, 180}, {0.05623221f, 0.05623221f, 0.05623221f}},
+      {"spec_trans_full_specular", {30, 20}, {160, 200}, {14.42167f, 14.42167f, 14.42167f}},
+      {"spec_trans_full_specular", {50, 0}, {140, 170}, {1.434659f, 1.434659f, 1.434659f}},
+      {"spec_trans_full_specular", {150, 10}, {20, 190}, {0.2680942f, 0.2680942f, 0.2680942f}},
+      {"spec_trans_full_specular", {140, 0}, {135, 180}, {0.1752636f, 0.1752636f, 0.1752636f}},
+      {"spec_trans_full_specular", {170, 30}, {120, 200}, {0.003699636f, 0.003699636f, 0.003699636f}},
   };
   for (const auto& t : table) {
     const auto s = scene::load_scene(scene("<shape type=\"rectangle\">" + material(t.material) + "</shape>"));
@@ -96,8 +124,8 @@ TEST_F(Principled, RefusesWhatItDoesNotModelByName) {
     }
     return "accepted";
   };
-  EXPECT_THAT(refused(R"(<bsdf type="principled"><float name="spec_trans" value="0.5"/></bsdf>)"),
-              ::testing::HasSubstr("spec_trans"));
+  EXPECT_THAT(refused(R"(<bsdf type="principled"><float name="spec_trans" value="1.5"/></bsdf>)"),
+              ::testing::HasSubstr("spec_trans must lie in [0, 1]"));
   EXPECT_THAT(refused(R"(<bsdf type="principled"><float name="eta" value="1.5"/>
                             <float name="specular" value="0.5"/></bsdf>)"),
               ::testing::HasSubstr("either 'eta' or 'specular'"));
