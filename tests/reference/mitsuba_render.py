@@ -22,19 +22,27 @@ def scalar(v):
 
 
 def included_defaults(path):
-    """The <default> values of every scene file beside and below the scene's folder (its includes'): Mitsuba takes
-    defaults from the main file only, clradiosity (like Mitsuba 0.6) from included files too; handing them to
-    Mitsuba as parameters loads the scene as clradiosity reads it."""
+    """The <default> values of the scene's included files: Mitsuba takes defaults from the main file only,
+    clradiosity (like Mitsuba 0.6) from included files too; handing them to Mitsuba as parameters loads the scene as
+    clradiosity reads it. Includes are looked up beside the including file and in the main scene's folder."""
     root = os.path.dirname(os.path.abspath(path))
-    values = {}
-    for folder, _, files in os.walk(root):
-        for name in files:
-            if name.endswith(".xml"):
-                try:
-                    for node in ET.parse(os.path.join(folder, name)).getroot().iter("default"):
-                        values.setdefault(node.get("name"), node.get("value"))
-                except ET.ParseError:
-                    pass
+    values, seen, todo = {}, set(), [os.path.abspath(path)]
+    while todo:
+        current = todo.pop()
+        if current in seen or not os.path.isfile(current):
+            continue
+        seen.add(current)
+        try:
+            tree = ET.parse(current).getroot()
+        except ET.ParseError:
+            continue
+        if current != os.path.abspath(path):
+            for node in tree.iter("default"):
+                values.setdefault(node.get("name"), node.get("value"))
+        for node in tree.iter("include"):
+            name = node.get("filename", "")
+            for folder in (os.path.dirname(current), root):
+                todo.append(os.path.normpath(os.path.join(folder, name)))
     return values
 
 
