@@ -128,6 +128,23 @@ std::vector<Case> cases() {
                    .spec_trans = 0.7f}),
        40},
       {"principled_spec_trans_inside", principled({.roughness = 0.4f, .spec_trans = 0.8f}), 150, 1.5f * 1.5f},
+      {"principledthin_default",
+       [] { return std::make_shared<scene::PrincipledThin>(scene::PrincipledThin::Params{}); }, 35},
+      {"principledthin_all_lobes_from_below",
+       [] {
+         return std::make_shared<scene::PrincipledThin>(
+             scene::PrincipledThin::Params{.base_color = Rgb(0.7f, 0.4f, 0.2f),
+                                           .roughness = 0.4f,
+                                           .anisotropic = 0.4f,
+                                           .spec_trans = 0.6f,
+                                           .diff_trans = 0.8f,
+                                           .spec_tint = 0.5f,
+                                           .sheen = 0.5f,
+                                           .sheen_tint = 0.3f,
+                                           .flatness = 0.3f,
+                                           .eta = 1.4f});
+       },
+       130},
       {"principled_spec_trans_full_grazing", principled({.roughness = 0.25f, .spec_trans = 1.0f, .eta = 1.33f}), 75},
   };
 }

@@ -14,6 +14,8 @@ cases = {
 }
 cases['spec_trans'] = {'type':'principled','base_color':{'type':'rgb','value':[0.8,0.9,0.6]},'spec_trans':0.7,'roughness':0.3,'eta':1.5,'metallic':0.1,'clearcoat':0.3,'sheen':0.2}
 cases['spec_trans_full_specular'] = {'type':'principled','spec_trans':1.0,'roughness':0.5,'specular':0.3}
+cases['thin_default'] = {'type':'principledthin'}
+cases['thin_full'] = {'type':'principledthin','base_color':{'type':'rgb','value':[0.7,0.4,0.2]},'spec_trans':0.6,'diff_trans':0.8,'roughness':0.4,'eta':1.4,'spec_tint':0.5,'sheen':0.5,'sheen_tint':0.3,'flatness':0.3,'anisotropic':0.4}
 pairs=[((30,20),(40,200)),((60,0),(55,180)),((10,90),(70,45)),((75,30),(20,250)),((45,0),(45,180)),((30,20),(160,200)),((50,0),(140,170)),((150,10),(20,190)),((140,0),(135,180)),((170,30),(120,200))]
 out={}
 for name,c in cases.items():

@@ -1,6 +1,6 @@
-// Mitsuba 3's `principled` BSDF: eval against Mitsuba's own values at fixed directions, reflection and
-// transmission from either side (the table comes from tests/scene/mitsuba_principled.py), and the loader's refusals.
-// Sampling (χ², weights) is in bsdf_test.cpp.
+// Mitsuba 3's `principled` and `principledthin` BSDFs: eval against Mitsuba's own values at fixed directions,
+// reflection and transmission from either side (the table comes from tests/scene/mitsuba_principled.py), and the
+// loader's refusals. Sampling (χ², weights) is in bsdf_test.cpp.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -34,6 +34,13 @@ std::string material(const std::string& name) {
       <float name="clearcoat" value="0.8"/><float name="clearcoat_gloss" value="0.5"/>
       <float name="sheen" value="0.6"/><float name="sheen_tint" value="0.5"/><float name="flatness" value="0.4"/>
       <float name="roughness" value="0.6"/></bsdf>)";
+  if (name == "thin_default") return R"(<bsdf type="principledthin"/>)";
+  if (name == "thin_full")
+    return R"(<bsdf type="principledthin"><rgb name="base_color" value="0.7, 0.4, 0.2"/>
+      <float name="spec_trans" value="0.6"/><float name="diff_trans" value="0.8"/><float name="roughness" value="0.4"/>
+      <float name="eta" value="1.4"/><float name="spec_tint" value="0.5"/><float name="sheen" value="0.5"/>
+      <float name="sheen_tint" value="0.3"/><float name="flatness" value="0.3"/><float name="anisotropic" value="0.4"/>
+      </bsdf>)";
   if (name == "spec_trans")
     return R"(<bsdf type="principled"><rgb name="base_color" value="0.8, 0.9, 0.6"/>
       <float name="spec_trans" value="0.7"/><float name="roughness" value="0.3"/><float name="eta" value="1.5"/>
@@ -95,6 +102,26 @@ TEST_F(Principled, EvalMatchesMitsuba3) {
       {"spec_trans_full_specular", {150, 10}, {20, 190}, {0.2680942f, 0.2680942f, 0.2680942f}},
       {"spec_trans_full_specular", {140, 0}, {135, 180}, {0.1752636f, 0.1752636f, 0.1752636f}},
       {"spec_trans_full_specular", {170, 30}, {120, 200}, {0.003699636f, 0.003699636f, 0.003699636f}},
+      {"thin_default", {30, 20}, {40, 200}, {0.1219353f, 0.1219353f, 0.1219353f}},
+      {"thin_default", {60, 0}, {55, 180}, {0.09041452f, 0.09041452f, 0.09041452f}},
+      {"thin_default", {10, 90}, {70, 45}, {0.05595209f, 0.05595209f, 0.05595209f}},
+      {"thin_default", {75, 30}, {20, 250}, {0.1493917f, 0.1493917f, 0.1493917f}},
+      {"thin_default", {45, 0}, {45, 180}, {0.1125395f, 0.1125395f, 0.1125395f}},
+      {"thin_default", {30, 20}, {160, 200}, {0.0f, 0.0f, 0.0f}},
+      {"thin_default", {50, 0}, {140, 170}, {0.0f, 0.0f, 0.0f}},
+      {"thin_default", {150, 10}, {20, 190}, {0.0f, 0.0f, 0.0f}},
+      {"thin_default", {140, 0}, {135, 180}, {0.1125535f, 0.1125535f, 0.1125535f}},
+      {"thin_default", {170, 30}, {120, 200}, {0.08000558f, 0.08000558f, 0.08000558f}},
+      {"thin_full", {30, 20}, {40, 200}, {0.0914938f, 0.06175645f, 0.04193155f}},
+      {"thin_full", {60, 0}, {55, 180}, {0.2372952f, 0.193911f, 0.1649882f}},
+      {"thin_full", {10, 90}, {70, 45}, {0.01812937f, 0.01039147f, 0.005232866f}},
+      {"thin_full", {75, 30}, {20, 250}, {0.05336668f, 0.03141138f, 0.01677452f}},
+      {"thin_full", {45, 0}, {45, 180}, {0.1426067f, 0.1030101f, 0.07661229f}},
+      {"thin_full", {30, 20}, {160, 200}, {1.443918f, 0.8250961f, 0.412548f}},
+      {"thin_full", {50, 0}, {140, 170}, {0.4263536f, 0.2436306f, 0.1218153f}},
+      {"thin_full", {150, 10}, {20, 190}, {1.679661f, 0.9598064f, 0.4799032f}},
+      {"thin_full", {140, 0}, {135, 180}, {0.1225074f, 0.08674455f, 0.06290264f}},
+      {"thin_full", {170, 30}, {120, 200}, {0.02741355f, 0.01601371f, 0.008413818f}},
   };
   for (const auto& t : table) {
     const auto s = scene::load_scene(scene("<shape type=\"rectangle\">" + material(t.material) + "</shape>"));
@@ -129,7 +156,8 @@ TEST_F(Principled, RefusesWhatItDoesNotModelByName) {
   EXPECT_THAT(refused(R"(<bsdf type="principled"><float name="eta" value="1.5"/>
                             <float name="specular" value="0.5"/></bsdf>)"),
               ::testing::HasSubstr("either 'eta' or 'specular'"));
-  EXPECT_THAT(refused(R"(<bsdf type="principledthin"/>)"), ::testing::HasSubstr("principledthin"));
+  EXPECT_THAT(refused(R"(<bsdf type="principledthin"><float name="diff_trans" value="2.5"/></bsdf>)"),
+              ::testing::HasSubstr("diff_trans must lie in [0, 2]"));
   EXPECT_EQ(refused(R"(<bsdf type="principled"><float name="spec_trans" value="0"/></bsdf>)"), "accepted");
 }
 

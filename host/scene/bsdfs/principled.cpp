@@ -5,28 +5,12 @@
 #include <cmath>
 
 #include "scene/bsdfs.hpp"
+#include "scene/bsdfs/principled_helpers.hpp"
 #include "scene/fresnel.hpp"
 #include "scene/loader/plugin.hpp"
 
 namespace clr::scene {
 namespace {
-
-// (1 − cos)^5, the Schlick weight.
-float schlick_weight(float cos_theta) {
-  const float m = std::clamp(1.0f - cos_theta, 0.0f, 1.0f);
-  return (m * m) * (m * m) * m;
-}
-
-// Schlick's Fresnel from R0 at the microfacet cosine cos_i, with Mitsuba's turn for light arriving from the denser
-// side (the refracted cosine then drives the weight).
-Rgb schlick(const Rgb& r0, float cos_i, float eta) {
-  const float eta_it = cos_i >= 0 ? eta : 1.0f / eta, eta_ti = 1.0f / eta_it;
-  float c = std::fabs(cos_i);
-  if (!(eta_it > 1.0f)) c = std::sqrt(std::fmax(0.0f, 1.0f - (1.0f - cos_i * cos_i) * eta_ti * eta_ti));
-  return r0 + (Rgb(1.0f) - r0) * schlick_weight(c);
-}
-
-float r0_of_eta(float eta) { return ((eta - 1.0f) / (eta + 1.0f)) * ((eta - 1.0f) / (eta + 1.0f)); }
 
 // The clearcoat's GTR1 ("generalised Trowbridge–Reitz", γ = 1) normal distribution, sampled by its own D·cos θm.
 float gtr1_d(const Vec3& m, float alpha) {
@@ -52,19 +36,10 @@ float smith_ggx1(const Vec3& v, const Vec3& m) {
 
 }  // namespace
 
-Principled::Principled(Params params) : p_(std::move(params)) {
-  // Mitsuba's mapping of roughness and anisotropy to the GGX alphas (Burley's course notes), floored at 0.001.
-  const float r2 = p_.roughness * p_.roughness;
-  spec_.type = Microfacet::Type::ggx;
-  if (p_.anisotropic != 0) {
-    const float aspect = std::sqrt(1.0f - 0.9f * p_.anisotropic);
-    spec_.alpha = std::fmax(0.001f, r2 / aspect);
-    spec_.alpha_v = std::fmax(0.001f, r2 * aspect);
-  } else {
-    spec_.alpha = std::fmax(0.001f, r2);
-  }
-  clearcoat_alpha_ = 0.1f + (0.001f - 0.1f) * p_.clearcoat_gloss;
-}
+Principled::Principled(Params params)
+    : p_(std::move(params)),
+      spec_(principled_microfacet(p_.roughness, p_.anisotropic)),
+      clearcoat_alpha_(0.1f + (0.001f - 0.1f) * p_.clearcoat_gloss) {}
 
 Principled::Lobes Principled::lobes(float cos_o) const {
   // Mitsuba's shares: the main lobe (reflection and transmission together) its sampling rate, the clearcoat a
@@ -125,23 +100,9 @@ Rgb Principled::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
     value += Rgb(0.25f * p_.clearcoat * f * gtr1_d(h, clearcoat_alpha_) * smith_ggx1(wo, h) * smith_ggx1(wi, h) * wi.z);
   }
   if (brdf > 0) {
-    const float fo = schlick_weight(wi.z), fi = schlick_weight(wo.z);
-    const float diffuse = (1.0f - 0.5f * fi) * (1.0f - 0.5f * fo);
-    const float rr = 2.0f * p_.roughness * cos_d * cos_d;
-    const float retro = rr * (fo + fi + fo * fi * (rr - 1.0f));
-    float shape = diffuse + retro;
-    if (p_.flatness != 0) {
-      // Hanrahan–Krueger's fake subsurface, its Fss90 tied to the retro-reflection's roughness term.
-      const float fss90 = 0.5f * rr;
-      const float fss = (1.0f + fo * (fss90 - 1.0f)) * (1.0f + fi * (fss90 - 1.0f));
-      const float subsurface = 1.25f * (fss * (1.0f / (wi.z + wo.z) - 0.5f) + 0.5f);
-      shape += p_.flatness * (subsurface - shape);
-    }
-    value += base * (brdf * wi.z * kInvPi * shape);
-    if (p_.sheen > 0) {
-      const Rgb sheen_colour = Rgb(1.0f) + p_.sheen_tint * (tint - Rgb(1.0f));
-      value += sheen_colour * (p_.sheen * (1.0f - metallic) * schlick_weight(std::fabs(cos_d)) * wi.z);
-    }
+    const auto lobe =
+        principled_diffuse(base, tint, p_.roughness, p_.flatness, p_.sheen, p_.sheen_tint, wo.z, wi.z, cos_d);
+    value += brdf * lobe.diffuse + (1.0f - metallic) * lobe.sheen;
   }
   return value;
 }
