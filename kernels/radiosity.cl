@@ -26,3 +26,18 @@ __kernel void incident_rhs(__global const float* weight, __global const float* e
   }
   vstore3(sum / (float)samples, m, rhs);
 }
+
+// Light from delta emitters (point, spot, directional, projector), which no sampled direction reaches: the host's
+// next-event estimate at each point, summed over the lights with shadow rays, added to its right-hand side as a
+// constant (radiosity/training_batch.hpp: `direct`). Launched only for scenes that have such lights. A non-finite
+// term is dropped and counted, as incident_rhs drops its samples.
+__kernel void add_direct(__global float* rhs, __global const float* direct, unsigned int points,
+                         volatile __global unsigned int* non_finite) {
+  const size_t m = get_global_id(0);
+  if (m >= points) return;
+  const float3 d = vload3(m, direct);
+  if (isfinite(d.x) && isfinite(d.y) && isfinite(d.z))
+    vstore3(vload3(m, rhs) + d, m, rhs);
+  else
+    atomic_inc(non_finite);
+}

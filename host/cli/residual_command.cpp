@@ -40,7 +40,6 @@ Command add_residual_command(CLI::App& app) {
 
   return {cmd, [opt]() {
             const auto scene = scene::load_scene(opt->scene);
-            scene::require_trainable(scene, opt->scene);
             radiosity::RunDirectory::require_scene(opt->model, scene::fingerprint(scene));
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));

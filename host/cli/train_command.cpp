@@ -158,7 +158,6 @@ Command add_train_command(CLI::App& app) {
                            Digest().add(scene::fingerprint(scene).digest).value());
         ranks.require_same("the settings (--config and flags)", Digest().add(nlohmann::json(config).dump()).value());
         scene::require_emitter(scene, opt->scene);
-        scene::require_trainable(scene, opt->scene);
         // A run's config.json holds the networks of its scene (bounding box, inputs): reusing it for another
         // scene is a deliberate act.
         const std::filesystem::path config_run = std::filesystem::path(opt->config_file).parent_path();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace clr::radiosity {
 
@@ -18,6 +19,24 @@ float brightest_emission(const scene::Scene& scene) {
       const float phi = golden * float(i);
       const scene::Vec3 dir(r * std::cos(phi), r * std::sin(phi), z);
       brightest = std::max(brightest, scene::max_component(scene.environment->eval(dir)));
+    }
+  }
+  if (!scene.delta_lights.empty()) {
+    // A delta light has no radiance of its own; what the network learns is the radiance of the surfaces it lights,
+    // about ρ/π times the irradiance there. Taken at a typical distance, half the scene's bounding-box diagonal (a
+    // unit has to be right within a few decades, not exactly).
+    scene::Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const auto& shape : scene.shapes)
+      for (const auto& p : shape.mesh.positions) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+      }
+    const float d = 0.5f * glm::length(hi - lo);
+    for (const auto& light : scene.delta_lights) {
+      float irradiance = scene::max_component(light.intensity);
+      if (light.texture) irradiance *= scene::max_component(light.texture->mean());
+      if (light.kind != scene::DeltaLight::Kind::directional) irradiance /= d * d;
+      if (std::isfinite(irradiance)) brightest = std::max(brightest, irradiance / float(M_PI));
     }
   }
   return std::isfinite(brightest) ? brightest : 0.0f;

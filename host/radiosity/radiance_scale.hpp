@@ -9,7 +9,8 @@
 
 namespace clr::radiosity {
 
-// The emitters' brightest radiance (largest RGB component over area emitters and the environment), 0 for none.
+// The emitters' brightest radiance (largest RGB component over area emitters and the environment; for delta
+// lights, the radiance a white diffuse surface at a typical distance reflects), 0 for none.
 float brightest_emission(const scene::Scene& scene);
 
 // 1 when brightest_emission lies in [kRadianceWindowLow, kRadianceWindowHigh] (or is 0), else the power of ten

@@ -47,7 +47,8 @@ void estimate_rhs(cl::Context& ctx, const geometry::Geometry& geometry, nn::Netw
           s2 += term * term;
         }
         point.prediction[ch] = p[3 * m + ch];
-        point.mean[ch] = s1 / double(samples);
+        // Delta lights' next-event term: a constant per point, so it adds to the mean and not to the variance.
+        point.mean[ch] = s1 / double(samples) + (batch.direct.empty() ? 0.0 : double(batch.direct[3 * m + ch]));
         point.variance[ch] =
             samples > 1 ? std::max(0.0, s2 - double(samples) * point.mean[ch] * point.mean[ch]) / double(samples - 1)
                         : 0.0;

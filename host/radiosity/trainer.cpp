@@ -105,6 +105,7 @@ StepStats Trainer::step() {
       .args(incident_.weight, incident_.emitted, incident_.pdf, incident_.lookup, incident_radiance_, unsigned(M),
             unsigned(N), rhs_, non_finite_)
       .launch(M);
+  incident_.add_direct(rhs_, non_finite_);  // delta lights' next-event term, where the scene has any
   if (!hold_radiance_) {
     network_->forward_train(point_rows_, M, train_ctx_);
     // Mean over points and channels, so the learning rate does not depend on the batch size.

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "common/parallel.hpp"
+#include "geometry/delta_lighting.hpp"
 
 namespace clr::radiosity {
 namespace {
@@ -52,6 +53,8 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
   batch.bsdf_pdf.assign(M * N, -1.0f);
   batch.lookup.assign(M * N, -1);
   batch.directions.assign(keep ? M * N * 3 : 0, 0.0f);
+  const bool delta_lights = !scene.delta_lights.empty();
+  batch.direct.assign(delta_lights ? M * 3 : 0, 0.0f);
   std::vector<std::uint8_t> from_guide(M * N, 0);
   // Every sample's would-be lookup row, compacted afterwards in sample order (deterministic).
   std::vector<float> candidate(M * N * R);
@@ -62,6 +65,10 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
       const auto& x = batch.surface[m];
       const Vec3& wo = batch.wo[m];
       const scene::BsdfPoint bsdf = x.point.bsdf(scene);
+      if (delta_lights) {
+        const Rgb d = geometry::reflected_delta_lights(geometry, x.point, bsdf, wo);
+        std::copy_n(&d.x, 3, &batch.direct[3 * m]);
+      }
       for (std::size_t n = 0; n < N; ++n) {
         const std::size_t s = m * N + n;
         Vec3 wi;

@@ -29,7 +29,11 @@ struct TrainingBatch {
   std::vector<float> pdf;         // p̃: filled here when nothing is guided (c = 1), else on the device
   std::vector<float> directions;  // ω_i, world space; only with a guide (its pdf and loss need them)
   std::vector<int> lookup;        // row in incident_rows, or −1
-  std::size_t guided = 0;         // samples whose direction came from q
+  // Per point (× 3): f·cos·radiance summed over the scene's delta lights (point, spot, directional, projector),
+  // which no sampled direction can reach, with shadow rays — the next-event term added to the point's RHS as a
+  // constant. Empty when the scene has none. Not part of the samples, so the I-Module never guides towards it.
+  std::vector<float> direct;
+  std::size_t guided = 0;  // samples whose direction came from q
 
   std::size_t lookups() const { return incident_rows.size() / nn::kRawInputs; }
 };
@@ -54,8 +58,9 @@ void sample_training_points(const geometry::SurfaceSampler& sampler, const scene
 
 // The second half, on the host: each sample takes the BSDF with probability c, else the direction guided[s] (3
 // floats per sample, drawn from q on the device; empty when c = 1), and its ray is traced (Embree) through delta
-// chains. Sample streams depend only on (seed, step, point index), so a batch is reproducible whatever the thread
-// count. IncidentSampling (guide/incident_sampling.hpp) runs the device's part around it.
+// chains; with delta lights, each point's `direct` term is formed too. Sample streams depend only on (seed, step, point
+// index), so a batch is reproducible whatever the thread count. IncidentSampling (guide/incident_sampling.hpp) runs the
+// device's part around it.
 void trace_incident(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed,
                     std::uint64_t step, std::span<const float> guided, TrainingBatch& batch);
 

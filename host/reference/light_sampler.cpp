@@ -65,6 +65,7 @@ LightSample LightSampler::sample(const Vec3& from, Pcg32& rng) const {
     ls.pdf = delta_probability_;
     ls.environment = std::isinf(a.distance);
     ls.delta = true;
+    ls.delta_light = &lights[i];
     return ls;
   }
   const double target = double(rng.next_float()) * total_;

@@ -22,6 +22,7 @@ struct LightSample {
   float pdf;  // solid angle at the shading point, selection included; 0: no contribution. Delta: the selection's
   bool environment;
   bool delta;  // a point, spot, directional or projector light: no MIS (no ray hits it)
+  const scene::DeltaLight* delta_light = nullptr;  // which one, when `delta`
 };
 
 class LightSampler {

@@ -9,6 +9,7 @@
 #include "common/parallel.hpp"
 #include "common/pcg32.hpp"
 #include "common/progress.hpp"
+#include "geometry/delta_lighting.hpp"
 #include "reference/light_sampler.hpp"
 
 namespace clr::reference {
@@ -78,13 +79,12 @@ class PathTracer {
                  std::uint64_t& rays) const {
     const LightSample ls = lights_.sample(sp.position, rng);
     if (!(ls.pdf > 0) || scene::is_black(ls.radiance)) return Rgb(0.0f);
+    // The training batch's right-hand side takes delta lights through the same function (all of them at once).
+    if (ls.delta) return geometry::reflected_delta_light(g_, sp, bsdf, wo, *ls.delta_light, &rays) / ls.pdf;
     const Rgb f = bsdf.eval(wo, ls.direction);
     if (scene::is_black(f)) return Rgb(0.0f);
     geometry::Ray shadow{sp.spawn_origin(ls.direction), 0.0f, ls.direction, ls.distance};
-    if (ls.delta && !ls.environment) {
-      shadow.direction = ls.point - shadow.origin;  // up to the light's position, where nothing can be hit
-      shadow.tfar = 1.0f;
-    } else if (!ls.environment) {
+    if (!ls.environment) {
       // Stop short of the light's surface by the same relative margin the origin was pushed off its own.
       const Vec3 target = ls.point + ls.light_normal * (glm::dot(ls.light_normal, -ls.direction) > 0 ? 1.0f : -1.0f) *
                                          2e-5f * std::fmax(1.0f, scene::max_component(glm::abs(ls.point)));
@@ -93,7 +93,7 @@ class PathTracer {
     }
     ++rays;
     if (g_.occluded(shadow)) return Rgb(0.0f);
-    const float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo, ls.direction));
+    const float w = power_heuristic(ls.pdf, bsdf.pdf(wo, ls.direction));
     return f * ls.radiance * (w / ls.pdf);
   }
 

@@ -42,6 +42,78 @@ class RoughDiffuse final : public Bsdf {
   bool fast_;
 };
 
+// Mitsuba 3's `principled` (Burley's Disney BSDF as Mitsuba defines it): a diffuse lobe with retro-reflection and
+// the fake subsurface of `flatness`, sheen, the main GGX lobe (anisotropic, with a Fresnel term that blends the
+// dielectric's, the metal's Schlick tinted by base_color and the spec_tint share), the GTR1 clearcoat, and with
+// `spec_trans` the rough transmission through the same GGX facets (two-sided then: seen from inside, only the main
+// lobe's reflection and transmission). Sampling draws GGX normals from D·cos θm (Mitsuba: visible normals) and
+// chooses reflection or transmission by the Fresnel factor at the drawn facet: a different density, the same
+// integral.
+class Principled final : public Bsdf {
+ public:
+  struct Params {
+    Texture base_color{Rgb(0.5f)};
+    float roughness = 0.5f, anisotropic = 0, metallic = 0, spec_tint = 0, sheen = 0, sheen_tint = 0, flatness = 0,
+          clearcoat = 0, clearcoat_gloss = 0, spec_trans = 0;
+    float eta = 1.5f;  // from `eta`, or from `specular` as Mitsuba maps it
+    // Mitsuba's sampling rates of the lobes: they change the noise, not the expected value.
+    float specular_rate = 1, clearcoat_rate = 1, diffuse_rate = 1;
+  };
+  explicit Principled(Params params);
+  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const Vec2& uv) const override { return p_.base_color.eval(uv); }
+  float roughness() const override { return spec_.mean_alpha(); }
+  bool has_non_delta() const override { return true; }
+  bool anisotropic() const override { return spec_.anisotropic(); }
+  bool two_sided() const override { return transmission_weight() > 0; }
+
+ private:
+  struct Lobes {
+    float specular, clearcoat, diffuse;  // selection probabilities, summing to 1 (or all 0: nothing to sample)
+  };
+  Lobes lobes(float cos_o) const;
+  float reflect_probability(float cos_o, float fresnel) const;
+  float transmission_weight() const { return (1.0f - p_.metallic) * p_.spec_trans; }         // Mitsuba's `bsdf`
+  float reflection_weight() const { return (1.0f - p_.metallic) * (1.0f - p_.spec_trans); }  // and `brdf`
+  Params p_;
+  Microfacet spec_;        // the main lobe's GGX
+  float clearcoat_alpha_;  // GTR1's, from clearcoat_gloss
+};
+
+// Mitsuba 3's `principledthin`: Burley's thin-surface BSDF as Mitsuba defines it, the same from both sides — the
+// diffuse family of `principled` and Lambertian transmission (`diff_trans`, 0 to 2), and with `spec_trans` a GGX
+// reflection (Fresnel of the sheet's `eta`, tinted by spec_tint) and a transmission that passes straight through
+// the sheet (the reflection mirrored to the other side, roughness scaled by 0.65·eta − 0.35).
+class PrincipledThin final : public Bsdf {
+ public:
+  struct Params {
+    Texture base_color{Rgb(0.5f)};
+    float roughness = 0.5f, anisotropic = 0, spec_trans = 0, diff_trans = 0, spec_tint = 0, sheen = 0, sheen_tint = 0,
+          flatness = 0, eta = 1.5f;
+    // Mitsuba's sampling rates of the lobes: they change the noise, not the expected value.
+    float specular_reflect_rate = 1, specular_trans_rate = 1, diffuse_reflect_rate = 1, diffuse_trans_rate = 1;
+  };
+  explicit PrincipledThin(Params params);
+  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const Vec2& uv) const override { return p_.base_color.eval(uv); }
+  float roughness() const override { return reflect_.mean_alpha(); }
+  bool has_non_delta() const override { return true; }
+  bool two_sided() const override { return true; }
+  bool anisotropic() const override { return reflect_.anisotropic(); }
+
+ private:
+  struct Lobes {
+    float spec_reflect, spec_trans, diffuse_reflect, diffuse_trans;  // summing to 1 (or all 0)
+  };
+  Lobes lobes() const;
+  Params p_;
+  Microfacet reflect_, transmit_;  // the transmission's roughness scaled by the IOR (Burley 2015, figure 15)
+};
+
 // Mitsuba 0.6's `phong`: Lambertian plus the normalised modified Phong lobe around the mirror direction.
 class Phong final : public Bsdf {
  public:

@@ -55,4 +55,16 @@ struct Microfacet {
   float pdf_m(const Vec3& m) const { return D(m) * m.z; }
 };
 
+// The microfacet normal of a reflection or refraction pair (wo, wi), oriented to +z; the zero vector when there is
+// none. `eta`: IOR below the surface over above.
+inline Vec3 half_vector(const Vec3& wo, const Vec3& wi, float eta) {
+  const bool reflection = wo.z * wi.z > 0;
+  const float eta_rel = wo.z > 0 ? eta : 1.0f / eta;  // IOR on wi's side over wo's, for refraction
+  Vec3 m = reflection ? wo + wi : wo + wi * eta_rel;
+  const float len = glm::length(m);
+  if (!(len > 0)) return Vec3(0.0f);
+  m /= len;
+  return m.z < 0 ? -m : m;
+}
+
 }  // namespace clr::scene

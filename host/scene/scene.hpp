@@ -52,8 +52,5 @@ Scene load_scene(const std::filesystem::path& path, const std::map<std::string, 
 // render from (training needs none).
 void require_emitter(const Scene& scene, const std::filesystem::path& path);
 void require_sensor(const Scene& scene, const std::filesystem::path& path);
-// Training (and what measures a trained model) sees light through emitting surfaces and the environment; lights
-// that only next-event estimation reaches (point, spot, directional, projector) are refused until it does.
-void require_trainable(const Scene& scene, const std::filesystem::path& path);
 
 }  // namespace clr::scene

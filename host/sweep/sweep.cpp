@@ -105,7 +105,6 @@ void run_sweep(cl::Context& ctx, const SweepOptions& options) {
   const scene::Scene scene = scene::load_scene(o.scene);
   scene::require_sensor(scene, o.scene);
   scene::require_emitter(scene, o.scene);
-  scene::require_trainable(scene, o.scene);
   const int width = o.width > 0 ? o.width : scene.camera.width, height = o.height > 0 ? o.height : scene.camera.height;
   image::check_image_size(width, height, "--width × --height");
   const fs::path results = o.dir / "results.csv";

@@ -115,7 +115,7 @@ TEST_F(DeltaLights, ProjectorLightsAFacingPlaneEvenly) {
   EXPECT_EQ(l.arrive(Vec3(0, 0, -2)).radiance.x, 0.0f);
 }
 
-TEST_F(DeltaLights, LoaderReadsTheirPropertiesAndTrainingRefusesThem) {
+TEST_F(DeltaLights, LoaderReadsTheirProperties) {
   const auto file = scene(R"(
     <emitter type="point"><transform name="to_world"><translate x="1" y="2" z="3"/></transform></emitter>
     <emitter type="directional"><transform name="to_world"><lookat origin="0, 0, 0" target="0, -1, 0" up="0, 0, 1"/>
@@ -126,12 +126,6 @@ TEST_F(DeltaLights, LoaderReadsTheirPropertiesAndTrainingRefusesThem) {
   EXPECT_FLOAT_EQ(s.delta_lights[0].position.z, 3.0f);
   EXPECT_NEAR(s.delta_lights[1].direction.y, -1.0f, 1e-6f);
   EXPECT_NO_THROW(scene::require_emitter(s, file));
-  try {
-    scene::require_trainable(s, file);
-    ADD_FAILURE() << "training accepted a point light";
-  } catch (const InputError& e) {
-    EXPECT_THAT(e.what(), ::testing::HasSubstr("not supported by training"));
-  }
   EXPECT_THROW(scene::load_scene(scene(R"(<emitter type="projector"/>)")), InputError);  // needs an irradiance
   EXPECT_THROW(scene::load_scene(scene(R"(<emitter type="spot"><float name="beam_width" value="30"/></emitter>)")),
                InputError);  // wider than the cutoff

@@ -5,27 +5,74 @@ Usage: mitsuba_render.py SCENE.xml WIDTH HEIGHT SPP MAX_DEPTH OUT.exr
 
 The scene file is used unchanged: Mitsuba's own `path` integrator (with MAX_DEPTH) replaces whatever the file names
 (the shared scenes name integrators Mitsuba does not ship), and the camera is re-created at the requested size with
-the loaded sensor's transform and horizontal field of view."""
+the loaded sensor's transform and horizontal field of view (a thin lens with its aperture and focus distance, an
+orthographic camera with its transform). Exits 3 when Mitsuba cannot load the scene, so that a caller can tell
+"Mitsuba has no opinion" from a failed render."""
+import os
 import sys
+import xml.etree.ElementTree as ET
 
 import mitsuba as mi
 
 mi.set_variant("scalar_rgb")
 scene_file, width, height, spp, max_depth, out = sys.argv[1:7]
 
+def scalar(v):
+    return float(v[0]) if hasattr(v, "__len__") else float(v)
+
+
+def included_defaults(path):
+    """The <default> values of the scene's included files: Mitsuba takes defaults from the main file only,
+    clradiosity (like Mitsuba 0.6) from included files too; handing them to Mitsuba as parameters loads the scene as
+    clradiosity reads it. Includes are looked up beside the including file and in the main scene's folder."""
+    root = os.path.dirname(os.path.abspath(path))
+    values, seen, todo = {}, set(), [os.path.abspath(path)]
+    while todo:
+        current = todo.pop()
+        if current in seen or not os.path.isfile(current):
+            continue
+        seen.add(current)
+        try:
+            tree = ET.parse(current).getroot()
+        except ET.ParseError:
+            continue
+        if current != os.path.abspath(path):
+            for node in tree.iter("default"):
+                values.setdefault(node.get("name"), node.get("value"))
+        for node in tree.iter("include"):
+            name = node.get("filename", "")
+            for folder in (os.path.dirname(current), root):
+                todo.append(os.path.normpath(os.path.join(folder, name)))
+    return values
+
+
 try:
-    scene = mi.load_file(scene_file, integrator="path")  # scenes whose integrator type is "$integrator"
-except Exception:
-    scene = mi.load_file(scene_file)
-camera = mi.traverse(scene.sensors()[0])
-sensor = mi.load_dict({
-    "type": "perspective",
+    params = included_defaults(scene_file)
+    params["integrator"] = "path"  # scenes whose integrator type is "$integrator"
+    try:
+        scene = mi.load_file(scene_file, **params)
+    except Exception:
+        params.pop("integrator")
+        scene = mi.load_file(scene_file, **params)
+except Exception as e:
+    print(f"Mitsuba cannot load {scene_file}: {e}", file=sys.stderr)
+    sys.exit(3)
+original = scene.sensors()[0]
+camera = mi.traverse(original)
+kind = original.class_().name() if hasattr(original, "class_") else type(original).__name__
+spec = {
     "to_world": camera["to_world"],
-    "fov": float(camera["x_fov"][0]) if hasattr(camera["x_fov"], "__len__") else float(camera["x_fov"]),
-    "fov_axis": "x",
-    "near_clip": float(camera["near_clip"]),
+    "near_clip": scalar(camera["near_clip"]),
     "film": {"type": "hdrfilm", "width": int(width), "height": int(height), "rfilter": {"type": "box"}},
-})
+}
+if "Orthographic" in kind:
+    spec["type"] = "orthographic"
+else:
+    spec.update({"type": "perspective", "fov": scalar(camera["x_fov"]), "fov_axis": "x"})
+    if "ThinLens" in kind:
+        spec.update({"type": "thinlens", "aperture_radius": scalar(camera["aperture_radius"]),
+                     "focus_distance": scalar(camera["focus_distance"])})
+sensor = mi.load_dict(spec)
 integrator = mi.load_dict({"type": "path", "max_depth": int(max_depth)})
 image = mi.render(scene, sensor=sensor, integrator=integrator, spp=int(spp))
 mi.Bitmap(image).write(out)

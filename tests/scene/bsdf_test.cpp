@@ -58,6 +58,7 @@ std::vector<Case> cases() {
       return std::make_shared<scene::Dielectric>(scene::Dielectric::Kind::rough, 1.5f, Rgb(1.0f), Rgb(1.0f), m);
     };
   };
+  auto principled = [](scene::Principled::Params q) { return [q] { return std::make_shared<scene::Principled>(q); }; };
   return {
       {"diffuse", diffuse, 30},
       {"roughdiffuse_full",
@@ -92,6 +93,59 @@ std::vector<Case> cases() {
       {"roughdielectric_ggx_anisotropic_inside", rough_glass(mf(kGgx, 0.1f, 0.35f)), 150, 1.5f * 1.5f},
       {"pplastic_ggx_anisotropic", pplastic(mf(kGgx, 0.3f, 0.08f)), 50},
       {"roughdielectric_beckmann_inside", rough_glass(mf(kBeckmann, 0.2f)), 170, 1.5f * 1.5f},
+      {"principled_default", principled({}), 30},
+      {"principled_metallic_anisotropic_grazing",
+       principled({.base_color = Rgb(0.9f, 0.6f, 0.2f),
+                   .roughness = 0.3f,
+                   .anisotropic = 0.6f,
+                   .metallic = 0.7f,
+                   .spec_tint = 0.4f}),
+       70},
+      {"principled_clearcoat_sheen_flatness",
+       principled({.base_color = Rgb(0.2f, 0.5f, 0.8f),
+                   .roughness = 0.6f,
+                   .sheen = 0.6f,
+                   .sheen_tint = 0.5f,
+                   .flatness = 0.4f,
+                   .clearcoat = 0.8f,
+                   .clearcoat_gloss = 0.5f}),
+       45},
+      {"principled_glossy_clearcoat_rates",
+       principled({.base_color = Rgb(0.3f),
+                   .roughness = 0.15f,
+                   .clearcoat = 1.0f,
+                   .clearcoat_gloss = 0.2f,
+                   .eta = 1.8f,
+                   .clearcoat_rate = 3.0f,
+                   .diffuse_rate = 0.5f}),
+       20},
+      {"principled_spec_trans_outside",
+       principled({.base_color = Rgb(0.8f, 0.9f, 0.6f),
+                   .roughness = 0.3f,
+                   .metallic = 0.1f,
+                   .sheen = 0.2f,
+                   .clearcoat = 0.3f,
+                   .spec_trans = 0.7f}),
+       40},
+      {"principled_spec_trans_inside", principled({.roughness = 0.4f, .spec_trans = 0.8f}), 150, 1.5f * 1.5f},
+      {"principledthin_default",
+       [] { return std::make_shared<scene::PrincipledThin>(scene::PrincipledThin::Params{}); }, 35},
+      {"principledthin_all_lobes_from_below",
+       [] {
+         return std::make_shared<scene::PrincipledThin>(
+             scene::PrincipledThin::Params{.base_color = Rgb(0.7f, 0.4f, 0.2f),
+                                           .roughness = 0.4f,
+                                           .anisotropic = 0.4f,
+                                           .spec_trans = 0.6f,
+                                           .diff_trans = 0.8f,
+                                           .spec_tint = 0.5f,
+                                           .sheen = 0.5f,
+                                           .sheen_tint = 0.3f,
+                                           .flatness = 0.3f,
+                                           .eta = 1.4f});
+       },
+       130},
+      {"principled_spec_trans_full_grazing", principled({.roughness = 0.25f, .spec_trans = 1.0f, .eta = 1.33f}), 75},
   };
 }
 

@@ -289,15 +289,38 @@ TEST(Spectrum, ColourMatchingFunctionsMatchTheCieTable) {
 
 TEST(Spectrum, WavelengthValuePairsBecomeRgb) {
   // A flat spectrum has luminance equal to its value (the Y row of XYZ → sRGB inverts to luminance weights).
-  const Rgb flat = scene::spectrum_to_rgb({360, 830}, {0.5f, 0.5f}, true);
+  const Rgb flat = scene::spectrum_to_rgb({360, 830}, {0.5f, 0.5f}, true, false);
   EXPECT_NEAR(scene::luminance(flat), 0.5f, 2e-3f);
   // Reflectances are bounded to [0, 1], emission is not.
-  EXPECT_LE(scene::max_component(scene::spectrum_to_rgb({360, 830}, {5, 5}, true)), 1.0f);
-  EXPECT_NEAR(scene::luminance(scene::spectrum_to_rgb({360, 830}, {5, 5}, false)), 5.0f, 0.05f);
+  EXPECT_LE(scene::max_component(scene::spectrum_to_rgb({360, 830}, {5, 5}, true, true)), 1.0f);
+  EXPECT_NEAR(scene::luminance(scene::spectrum_to_rgb({360, 830}, {5, 5}, false, false)), 5.0f, 0.05f);
   // Long wavelengths are red.
-  const Rgb red = scene::spectrum_to_rgb({600, 610, 700}, {0, 1, 1}, true);
+  const Rgb red = scene::spectrum_to_rgb({600, 610, 700}, {0, 1, 1}, true, true);
   EXPECT_GT(red.x, 5 * red.y);
   EXPECT_GT(red.x, 5 * red.z);
+}
+
+TEST(Spectrum, ReflectancesAreSeenUnderD65AsMitsuba3SeesThem) {
+  // Under D65 (the sRGB white) a flat reflectance is grey, where an equal-energy spectrum came out pink (0.60, 0.47,
+  // 0.45 for 0.5). Mitsuba 3.9.1 (scalar_rgb) reads the flat 0.5 as (0.4977, 0.4999, 0.4975) and the red wall of
+  // its own cbox.xml as (0.4913, 0.0492, 0.0509); the colour-matching fit adds up to about 2 % (its documented
+  // accuracy), so 3 % of the largest channel bounds the difference.
+  const Rgb flat = scene::spectrum_to_rgb({400, 700}, {0.5f, 0.5f}, true, true);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(flat[c], 0.5f, 0.015f) << c;
+  std::vector<float> w, v;
+  const float red_wall[] = {0.04f,  0.046f, 0.048f, 0.053f, 0.049f, 0.05f,  0.053f, 0.055f, 0.057f, 0.056f, 0.059f,
+                            0.057f, 0.061f, 0.061f, 0.06f,  0.062f, 0.062f, 0.062f, 0.061f, 0.062f, 0.06f,  0.059f,
+                            0.057f, 0.058f, 0.058f, 0.058f, 0.056f, 0.055f, 0.056f, 0.059f, 0.057f, 0.055f, 0.059f,
+                            0.059f, 0.058f, 0.059f, 0.061f, 0.061f, 0.063f, 0.063f, 0.067f, 0.068f, 0.072f, 0.08f,
+                            0.09f,  0.099f, 0.124f, 0.154f, 0.192f, 0.255f, 0.287f, 0.349f, 0.402f, 0.443f, 0.487f,
+                            0.513f, 0.558f, 0.584f, 0.62f,  0.606f, 0.609f, 0.651f, 0.612f, 0.61f,  0.65f,  0.638f,
+                            0.627f, 0.62f,  0.63f,  0.628f, 0.642f, 0.639f, 0.657f, 0.639f, 0.635f, 0.642f};
+  for (std::size_t i = 0; i < std::size(red_wall); ++i) {
+    w.push_back(400.0f + 4.0f * float(i));
+    v.push_back(red_wall[i]);
+  }
+  const Rgb red = scene::spectrum_to_rgb(w, v, true, true), mitsuba(0.4913f, 0.0492f, 0.0509f);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(red[c], mitsuba[c], 0.03f * 0.4913f) << c;
 }
 
 TEST_F(RealScenes, SpectraInScenes) {
@@ -306,8 +329,8 @@ TEST_F(RealScenes, SpectraInScenes) {
       <emitter type="area"><spectrum name="radiance" value="360:8, 830:8"/></emitter></shape>)"));
   EXPECT_NEAR(scene::luminance(s.shapes[0].radiance), 8.0f, 0.1f);
   const Rgb r = s.bsdf(s.shapes[0]).albedo(Vec2(0));
-  EXPECT_GT(r.y, 0.4f);
-  EXPECT_LT(r.y, 0.5f);
+  EXPECT_NEAR(r.x, 0.5f, 0.015f);  // a flat reflectance under D65: grey
+  EXPECT_NEAR(r.z, 0.5f, 0.015f);
   EXPECT_THAT(refusal(R"(<shape type="rectangle"><bsdf type="diffuse">
     <spectrum name="reflectance" value="400:0.5, 700"/></bsdf></shape>)"),
               HasSubstr("wavelength:value"));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "nn/programs.hpp"
 #include "radiosity/guide/i_module.hpp"
 
 namespace clr::radiosity {
@@ -36,6 +37,8 @@ void IncidentSampling::sample(const geometry::Geometry& geometry, const BatchSet
   cl::upload(*ctx_, weight, batch.weight);
   cl::upload(*ctx_, emitted, batch.emitted);
   cl::upload(*ctx_, lookup, batch.lookup);
+  direct_points_ = batch.direct.empty() ? 0 : M;
+  if (direct_points_) cl::upload(*ctx_, direct, batch.direct);
   if (settings.guide) {
     cl::upload(*ctx_, directions, batch.directions);
     cl::upload(*ctx_, bsdf_pdf, batch.bsdf_pdf);
@@ -45,6 +48,12 @@ void IncidentSampling::sample(const geometry::Geometry& geometry, const BatchSet
   } else {
     cl::upload(*ctx_, pdf, batch.pdf);
   }
+}
+
+void IncidentSampling::add_direct(cl::Buffer<float>& rhs, cl::Buffer<unsigned>& non_finite) {
+  if (!direct_points_) return;
+  if (!add_direct_) add_direct_ = ctx_->program(nn::programs::radiosity).kernel("add_direct");
+  add_direct_->args(rhs, direct, unsigned(direct_points_), non_finite).launch(direct_points_);
 }
 
 }  // namespace clr::radiosity

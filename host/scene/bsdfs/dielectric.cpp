@@ -14,19 +14,6 @@ Dielectric::Dielectric(Kind kind, float eta, Texture specular_reflectance, Textu
       transmittance_(std::move(specular_transmittance)),
       mf_(microfacet) {}
 
-// The microfacet normal of a reflection or refraction pair, oriented to +z; zero vector when there is none.
-namespace {
-Vec3 half_vector(const Vec3& wo, const Vec3& wi, float eta) {
-  const bool reflection = wo.z * wi.z > 0;
-  const float eta_rel = wo.z > 0 ? eta : 1.0f / eta;  // IOR on wi's side over wo's, for refraction
-  Vec3 m = reflection ? wo + wi : wo + wi * eta_rel;
-  const float len = glm::length(m);
-  if (!(len > 0)) return Vec3(0.0f);
-  m /= len;
-  return m.z < 0 ? -m : m;
-}
-}  // namespace
-
 Rgb Dielectric::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
   if (kind_ != Kind::rough || wo.z == 0 || wi.z == 0) return Rgb(0.0f);
   const Vec3 m = half_vector(wo, wi, eta_);

@@ -487,13 +487,6 @@ void require_emitter(const Scene& scene, const std::filesystem::path& path) {
                    "a point, spot, directional or projector light): every radiance would be zero");
 }
 
-void require_trainable(const Scene& scene, const std::filesystem::path& path) {
-  if (!scene.delta_lights.empty())
-    throw InputError(path.string() +
-                     ": point, spot, directional and projector lights are not supported by training yet (they "
-                     "reach surfaces only through next-event estimation); the reference renders them");
-}
-
 void require_sensor(const Scene& scene, const std::filesystem::path& path) {
   if (!scene.has_sensor) throw InputError(path.string() + ": the scene has no <sensor> to render from");
   scene.camera.validate(path.string() + ": <sensor>");

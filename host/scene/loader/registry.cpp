@@ -24,7 +24,9 @@ namespace clr::scene::loader {
   X("bumpmap", read_bumpmap)            \
   X("blendbsdf", read_blendbsdf)        \
   X("null", read_null)                  \
-  X("normalmap", read_normalmap)
+  X("normalmap", read_normalmap)        \
+  X("principled", read_principled)      \
+  X("principledthin", read_principledthin)
 
 #define CLR_TEXTURE_PLUGINS(X)         \
   X("bitmap", read_bitmap)             \

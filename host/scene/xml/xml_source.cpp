@@ -191,12 +191,13 @@ Rgb Node::spectrum() const {
   }
   if (wavelengths.size() < 2) fail("a spectrum needs at least two wavelength:value pairs");
   // Emission and the unbounded optical constants may exceed 1; reflectances are clamped to [0, 1] (Mitsuba).
-  bool bounded = true;
+  // Only emission is integrated without the D65 white (Mitsuba 3's RGB variants).
+  bool emission = false;
   for (pugi::xml_node p = xml.parent(); p; p = p.parent())
-    if (std::string(p.name()) == "emitter") bounded = false;
+    if (std::string(p.name()) == "emitter") emission = true;
   const std::string name = attr_or("name", "");
-  if (name == "eta" || name == "k" || name == "int_ior" || name == "ext_ior") bounded = false;
-  return spectrum_to_rgb(wavelengths, values, bounded);
+  const bool bounded = !emission && name != "eta" && name != "k" && name != "int_ior" && name != "ext_ior";
+  return spectrum_to_rgb(wavelengths, values, bounded, !emission);
 }
 
 Vec3 Node::vector3() const {

@@ -1,0 +1,108 @@
+// Mitsuba 3 as the peer of every corpus scene (../shared/scenes-corpus) that both renderers load: our path tracer
+// and Mitsuba's (tests/reference/mitsuba_render.py, scalar_rgb) at a low resolution and the same spp and max_depth
+// agree within the bounds of mitsuba_peer_slow_test.cpp — 1 % on the channel means and 2 % on the median 8×8-block
+// error, widened by the measured noise. Scenes we refuse are the corpus test's business; scenes Mitsuba cannot
+// load (the script exits 3) have no peer. Skipped where `import mitsuba` fails or the corpus is absent.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "geometry/geometry.hpp"
+#include "reference/agreement.hpp"
+#include "reference/path_tracer.hpp"
+#include "scene/scene.hpp"
+
+namespace clr::test {
+namespace {
+
+namespace fs = std::filesystem;
+const fs::path kCorpus = fs::path(CLR_SHARED_SCENES) / ".." / "scenes-corpus";
+constexpr int kSize = 48, kSpp = 256;  // the longer side; samples per pixel of each renderer
+
+struct CorpusScene {
+  std::string dir, main_xml;
+};
+void PrintTo(const CorpusScene& s, std::ostream* os) { *os << s.dir; }
+
+std::vector<CorpusScene> corpus_scenes() {
+  std::vector<CorpusScene> out;
+  std::ifstream in(kCorpus / "manifest.tsv");
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    CorpusScene s;
+    if (std::getline(fields, s.dir, '\t') && std::getline(fields, s.main_xml, '\t')) out.push_back(s);
+  }
+  if (out.empty()) out.push_back({});  // one test that reports the skip
+  return out;
+}
+
+bool have_mitsuba() { return std::system("python3 -c 'import mitsuba' >/dev/null 2>&1") == 0; }
+
+class MitsubaCorpusPeer : public ::testing::TestWithParam<CorpusScene> {};
+
+TEST_P(MitsubaCorpusPeer, AgreesWithinNoise) {
+  const CorpusScene& c = GetParam();
+  if (c.dir.empty()) GTEST_SKIP() << "scene corpus not found at " << kCorpus;
+  if (!have_mitsuba()) GTEST_SKIP() << "Mitsuba 3 is not installed (pip install mitsuba)";
+  const fs::path xml = kCorpus / c.dir / c.main_xml;
+  std::optional<scene::Scene> loaded;
+  try {
+    loaded = scene::load_scene(xml);
+    scene::require_emitter(*loaded, xml);
+    scene::require_sensor(*loaded, xml);
+  } catch (const InputError& e) {
+    GTEST_SKIP() << "refused (the corpus test checks why): " << e.what();
+  }
+  const scene::Scene& scene = *loaded;
+  // The film's aspect at a low resolution, so that both cameras keep the same field of view.
+  const int W = scene.camera.width, H = scene.camera.height;
+  const int width = W >= H ? kSize : std::max(8, int(std::lround(double(kSize) * W / H)));
+  const int height = W >= H ? std::max(8, int(std::lround(double(kSize) * H / W))) : kSize;
+
+  const auto out = fs::temp_directory_path() / ("clr_mitsuba_corpus_" + std::to_string(::getpid()) + ".exr");
+  const std::string cmd = "python3 '" CLR_SOURCE_DIR "/tests/reference/mitsuba_render.py' '" + xml.string() + "' " +
+                          std::to_string(width) + " " + std::to_string(height) + " " + std::to_string(kSpp) + " " +
+                          std::to_string(scene.max_depth) + " '" + out.string() + "' 2>/dev/null";
+  const int status = std::system(cmd.c_str());
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 3) GTEST_SKIP() << "Mitsuba 3 cannot load " << xml;
+  ASSERT_EQ(status, 0) << cmd;
+  const auto peer = image::read_exr(out);
+  fs::remove(out);
+
+  const geometry::Geometry geometry(scene);
+  reference::RenderOptions opt;
+  opt.width = width;
+  opt.height = height;
+  opt.spp = kSpp / 2;
+  opt.seed = 1;
+  const auto a = reference::render(geometry, opt);
+  opt.seed = 2;
+  const auto b = reference::render(geometry, opt);
+  const auto img = average(a, b);
+  const Agreement ag = agreement(img, peer);
+  const Noise noise = noise_of_average(a, b, peer);
+  std::cout << c.dir << " vs Mitsuba 3, " << width << "x" << height << ", " << kSpp << " spp: " << ag
+            << "; own noise: mean " << 100 * noise.mean << " %, median block " << 100 * noise.median_block << " %\n";
+  EXPECT_LT(ag.worst_mean_error, 0.01 + 3 * std::sqrt(2.0) * noise.mean) << ag;
+  EXPECT_LT(ag.median_block_error, 0.02 + 2 * std::sqrt(2.0) * noise.median_block) << ag;
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, MitsubaCorpusPeer, ::testing::ValuesIn(corpus_scenes()),
+                         [](const ::testing::TestParamInfo<CorpusScene>& param_info) {
+                           std::string n = param_info.param.dir.empty() ? "absent" : param_info.param.dir;
+                           for (char& ch : n)
+                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                           return n;
+                         });
+
+}  // namespace
+}  // namespace clr::test
