@@ -3,8 +3,8 @@
 // process, so that load from other processes falls on both alike); each figure is the median over the rounds of a
 // block's ms/step, the device's queue drained at the end of every block. The anchor is the serial schedule itself:
 // the pipeline must not be slower on a CPU device, where host and device share the cores.
-// Usage: bench_pipeline [SCENE.xml] [rounds] [steps per block] (default: the shared Cornell box, else the bundled
-// one; 7 rounds of 10 steps).
+// Usage: bench_pipeline [SCENE.xml] [rounds] [steps per block] (SCENE "" or none: the shared Cornell box, else the
+// bundled one; 7 rounds of 10 steps).
 #include <unistd.h>
 
 #include <algorithm>
@@ -36,7 +36,7 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
   fs::path scene_path = fs::path(CLR_SHARED_SCENES) / "cornell-box" / "scene.xml";
   if (!fs::exists(scene_path)) scene_path = fs::path(CLR_SOURCE_DIR) / "scenes" / "cornell-box.xml";
-  if (argc > 1) scene_path = argv[1];
+  if (argc > 1 && *argv[1]) scene_path = argv[1];
   const int rounds = argc > 2 ? std::max(1, std::atoi(argv[2])) : 7;
   const int block = argc > 3 ? std::max(1, std::atoi(argv[3])) : 10;
   const auto scene = scene::load_scene(scene_path);
@@ -83,8 +83,13 @@ int main(int argc, char** argv) {
               rows[0].trainer->config().samples, rounds, block);
   for (std::size_t i = 0; i + 1 < rows.size(); i += 2) {
     const double serial = median(rows[i].ms), piped = median(rows[i + 1].ms);
-    std::printf("%-4s  serial %7.1f ms/step  pipelined %7.1f ms/step  (median; pipelined/serial %.3f)\n",
-                rows[i].method, serial, piped, piped / serial);
+    // Adjacent blocks see about the same load from other processes: their ratio, round by round, is the fairer one.
+    std::vector<double> ratios;
+    for (int round = 0; round < rounds; ++round) ratios.push_back(rows[i + 1].ms[round] / rows[i].ms[round]);
+    std::printf(
+        "%-4s  serial %7.1f ms/step  pipelined %7.1f ms/step  (medians; pipelined/serial %.3f, median of the rounds' "
+        "ratios %.3f)\n",
+        rows[i].method, serial, piped, piped / serial, median(ratios));
     for (std::size_t j = i; j < i + 2; ++j) {
       std::printf("      %-9s blocks:", j == i ? "serial" : "pipelined");
       for (const double ms : rows[j].ms) std::printf(" %.1f", ms);
