@@ -92,9 +92,10 @@ std::vector<GemmTile> gemm_tiles(const cl::DeviceInfo& device) {
 
 std::vector<GemmBlock> gemm_blocks(const cl::DeviceInfo& device) {
   // 256 work-items a group (8 warps) with 4 × 4 or 8 × 8 accumulators each: the classic SGEMM shapes, 8–9 KiB of
-  // local memory, so several groups fit a multiprocessor's 48 KiB. A CPU gets the smaller block only, so that
-  // `auto` measures the GPU shape there too without a second slow build.
-  if (device.type == cl::DeviceType::Cpu) return {{64, 64, 16, 4, 4}};
+  // local memory, so several groups fit a multiprocessor's 48 KiB. None on CPUs: PoCL runs a group's work-items one
+  // after the other between barriers, and the kernel ran at about 1 % of the FMA peak there, some 50 times slower
+  // than the register tile (docs/results/benchmarks.md), so probing it would cost seconds for nothing.
+  if (device.type == cl::DeviceType::Cpu) return {};
   return {{64, 64, 16, 4, 4}, {128, 128, 8, 8, 8}};
 }
 

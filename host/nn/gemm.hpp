@@ -51,7 +51,7 @@ std::string to_string(const GemmPlan& plan);
 
 // The own kernel's candidate tiles for this device, the first being the default when nothing is timed.
 std::vector<GemmTile> gemm_tiles(const cl::DeviceInfo& device);
-// The tiled kernel's candidate blocks for this device (all within NVIDIA's 48 KiB and 1024 work-items).
+// The tiled kernel's candidate blocks for this device (all within NVIDIA's 48 KiB and 1024 work-items); none on CPUs.
 std::vector<GemmBlock> gemm_blocks(const cl::DeviceInfo& device);
 
 // A row-major matrix inside a buffer: element (i, j) is at buf[offset + i·ld + j].

@@ -31,9 +31,10 @@ StepSchedule parse_step_schedule(const std::string& text) {
   throw InputError("step schedule '" + text + "' is not one of serial, pipelined");
 }
 
-StepSchedule default_schedule(const cl::DeviceInfo& device) {
+StepSchedule default_schedule() {
   if (const char* env = std::getenv("CLRADIOSITY_STEP_SCHEDULE"); env && *env) return parse_step_schedule(env);
-  (void)device;
+  // Pipelined on every device: on GPUs it hides the host's stages; on PoCL, where host and device share the cores,
+  // it was not slower than serial (docs/results/benchmarks.md), so one schedule serves both.
   return StepSchedule::Pipelined;
 }
 
@@ -96,7 +97,7 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
   batch_settings_.guide = guide_ != nullptr;
   batch_settings_.bsdf_fraction = guide_ ? float(config_.bsdf_fraction_at(0.0)) : 1.0f;
   non_finite_.fill(0u);
-  set_schedule(default_schedule(ctx.device()));
+  set_schedule(default_schedule());
 }
 
 void Trainer::set_schedule(StepSchedule schedule) {

@@ -36,8 +36,8 @@ nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, co
 enum class StepSchedule { Serial, Pipelined };
 // "serial" | "pipelined"; anything else throws InputError.
 StepSchedule parse_step_schedule(const std::string& text);
-// CLRADIOSITY_STEP_SCHEDULE when set, else the device type's default.
-StepSchedule default_schedule(const cl::DeviceInfo& device);
+// CLRADIOSITY_STEP_SCHEDULE when set, else pipelined.
+StepSchedule default_schedule();
 
 struct StepStats {
   double loss = 0;          // mean residual loss over the batch

@@ -125,7 +125,9 @@ TEST_F(GemmTest, TiledKernelMatchesTwinWithEveryBlock) {
                    {Op::N, Op::T, 70, 66, 20, 0.5f, 0.0f, false, Act::None},
                    {Op::T, Op::N, 40, 70, 520, 1.0f, 1.0f, false, Act::None},
                    {Op::T, Op::T, 20, 30, 40, -2.0f, 0.25f, false, Act::None}};
-    blocks = {nn::gemm_blocks(ctx().device()).front()};
+    cl::DeviceInfo gpu = ctx().device();
+    gpu.type = cl::DeviceType::Gpu;
+    blocks = {nn::gemm_blocks(gpu).front()};
   } else {
     for (const auto& c : cases())
       if (!(c.n <= 4 && c.op_b == Op::N)) tiled_cases.push_back(c);
