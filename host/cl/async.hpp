@@ -71,12 +71,12 @@ class PinnedUpload {
     CLR_CL_CHECK(status);
     mapped_ = static_cast<T*>(p);
   }
-  // Unmapping is enqueued behind the last write from the mapping (in-order queue); a destructor does not throw, so a
-  // failure here (only at teardown of a broken context) is ignored.
+  // Unmapping is enqueued behind the last write from the mapping (in-order queue), and the runtime keeps the buffer
+  // until the commands using it are done, so nothing waits here. A destructor does not throw: a failure (only at
+  // teardown of a broken context) is ignored.
   void release() noexcept {
     if (!pinned_) return;
     if (mapped_) clEnqueueUnmapMemObject(queue_, pinned_.get(), mapped_, 0, nullptr, nullptr);
-    clFinish(queue_);
     mapped_ = nullptr;
     last_ = EventHandle();
     pinned_ = MemHandle();
