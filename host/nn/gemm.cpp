@@ -58,10 +58,25 @@ GemmChoice parse_gemm_choice(const std::string& text) {
   throw InputError("gemm backend '" + text + "' is not one of auto, own, clblast");
 }
 
-std::string to_string(GemmBackend backend) { return backend == GemmBackend::Own ? "own" : "clblast"; }
+std::string to_string(GemmBackend backend) {
+  switch (backend) {
+    case GemmBackend::Own:
+      return "own";
+    case GemmBackend::Tiled:
+      return "tiled";
+    case GemmBackend::CLBlast:
+      break;
+  }
+  return "clblast";
+}
 
 std::string to_string(const GemmPlan& plan) {
   if (plan.backend == GemmBackend::CLBlast) return "clblast";
+  if (plan.backend == GemmBackend::Tiled) {
+    const auto& b = plan.block;
+    return "tiled " + std::to_string(b.bm) + "x" + std::to_string(b.bn) + "x" + std::to_string(b.bk) + "/" +
+           std::to_string(b.wm) + "x" + std::to_string(b.wn);
+  }
   const auto& t = plan.tile;
   return "own " + std::to_string(t.tm) + "x" + std::to_string(t.vw) + "x" + std::to_string(t.nv);
 }
@@ -75,12 +90,23 @@ std::vector<GemmTile> gemm_tiles(const cl::DeviceInfo& device) {
   return {{4, 4, 2}};
 }
 
+std::vector<GemmBlock> gemm_blocks(const cl::DeviceInfo& device) {
+  // 256 work-items a group (8 warps) with 4 × 4 or 8 × 8 accumulators each: the classic SGEMM shapes, 8–9 KiB of
+  // local memory, so several groups fit a multiprocessor's 48 KiB. None on CPUs: PoCL runs a group's work-items one
+  // after the other between barriers, and the kernel ran at about 1 % of the FMA peak there, some 50 times slower
+  // than the register tile (docs/results/benchmarks.md), so probing it would cost seconds for nothing.
+  if (device.type == cl::DeviceType::Cpu) return {};
+  return {{64, 64, 16, 4, 4}, {128, 128, 8, 8, 8}};
+}
+
 Gemm::Gemm(cl::Context& ctx, GemmChoice choice) : Gemm(ctx, choose_gemm_plan(ctx, choice)) {}
 
 Gemm::Gemm(cl::Context& ctx, const GemmPlan& plan) : ctx_(&ctx), plan_(plan) {
   const auto& t = plan.tile;
-  const auto& program = ctx.program(programs::gemm, programs::gemm_options(t.tm, t.vw, t.nv));
-  gemm_.emplace(program.kernel("gemm_own"));
+  const bool tiled = plan.backend == GemmBackend::Tiled;
+  const auto& program = tiled ? ctx.program(programs::gemm_tiled, programs::gemm_tiled_options(plan.block))
+                              : ctx.program(programs::gemm, programs::gemm_options(t.tm, t.vw, t.nv));
+  gemm_.emplace(program.kernel(tiled ? "gemm_tiled" : "gemm_own"));
   reduce_.emplace(program.kernel("gemm_reduce_slices"));
   transpose_.emplace(program.kernel("transpose"));
   bias_act_.emplace(program.kernel("bias_act"));
@@ -100,7 +126,7 @@ cl::Buffer<float>& Gemm::scratch(std::optional<cl::Buffer<float>>& slot, std::si
 void Gemm::run(Op op_a, Op op_b, std::size_t m, std::size_t n, std::size_t k, float alpha, MatRef a, MatRef b,
                float beta, MatRef c, const Epilogue& epilogue) {
   if (m == 0 || n == 0) return;
-  if (plan_.backend == GemmBackend::Own)
+  if (plan_.backend != GemmBackend::CLBlast)
     run_own(op_a, op_b, m, n, k, alpha, a, b, beta, c, epilogue);
   else
     run_clblast(op_a, op_b, m, n, k, alpha, a, b, beta, c, epilogue);
@@ -123,22 +149,31 @@ void Gemm::run_own(Op op_a, Op op_b, std::size_t m, std::size_t n, std::size_t k
   }
   const std::size_t a_rs = op_a == Op::N ? a.ld : 1;
   const std::size_t a_cs = op_a == Op::N ? 1 : a.ld;
-  const std::size_t tiles_n = ceil_div(n, plan_.tile.columns()), tiles_m = ceil_div(m, plan_.tile.tm);
-  // Split-K when the output alone has too few tiles to fill the device (dW = dYᵀ·X: 512 × 512 outputs but a
-  // reduction over the whole batch). CPUs want a few tiles per core, GPUs thousands of threads.
+  // The launch: a tile of C per work-item (own) or per work-group (tiled), and the work-group.
   const bool cpu = ctx_->device().type == cl::DeviceType::Cpu;
+  const bool tiled = plan_.backend == GemmBackend::Tiled;
+  const auto& blk = plan_.block;
+  const std::size_t tiles_n = ceil_div(n, tiled ? blk.bn : plan_.tile.columns());
+  const std::size_t tiles_m = ceil_div(m, tiled ? blk.bm : plan_.tile.tm);
+  const std::size_t items_x = tiled ? blk.group_columns() : 1, items_y = tiled ? blk.group_rows() : 1;
+  // A group of the own kernel is a row of up to 16 tiles side by side (they share their rows of A); GPUs stack 4
+  // such rows for 64-work-item groups, two warps, while a CPU group is one core's work and one row keeps its A panel
+  // hot. The tiled kernel's group is fixed by its block.
+  const std::size_t local0 = tiled ? items_x : std::min<std::size_t>(tiles_n, 16);
+  const std::size_t local1 = tiled ? items_y : cpu ? 1 : 4;
+  const auto launch = [&](const OwnGemmArgs& args, std::size_t rows_of_tiles) {
+    launch_own(*gemm_, args, {tiles_n * items_x, rows_of_tiles * items_y}, {local0, local1});
+  };
+  // Split-K when the output alone has too few work-items to fill the device (dW = dYᵀ·X: 512 × 512 outputs but a
+  // reduction over the whole batch). CPUs want a few tiles per core, GPUs thousands of threads.
   const std::size_t want_items = ctx_->device().compute_units * (cpu ? 16 : 2048);
-  std::size_t slices =
-      std::clamp<std::size_t>(ceil_div(want_items, tiles_n * tiles_m), 1, std::max<std::size_t>(1, k / 256));
+  std::size_t slices = std::clamp<std::size_t>(ceil_div(want_items, tiles_n * tiles_m * items_x * items_y), 1,
+                                               std::max<std::size_t>(1, k / 256));
   slices = std::min(slices, std::max<std::size_t>(1, ctx_->device().max_alloc_bytes / 4 / (m * n)));
   const std::size_t k_slice = ceil_div(k, slices);
   slices = ceil_div(k, k_slice);
   const unsigned use_bias = epilogue.bias ? 1u : 0u;
   const cl::Buffer<float>& bias = epilogue.bias ? *epilogue.bias : *c.buf;
-  // A group is a row of up to 16 tiles side by side (they share their rows of A); GPUs stack 4 such rows for
-  // 64-work-item groups, two warps, while a CPU group is one core's work and one row keeps its A panel hot.
-  const std::size_t local0 = std::min<std::size_t>(tiles_n, 16);
-  const std::size_t local1 = cpu ? 1 : 4;
   const OwnGemmArgs plain{.m = u32(m),
                           .n = u32(n),
                           .k = u32(k),
@@ -174,12 +209,12 @@ void Gemm::run_own(Op op_a, Op op_b, std::size_t m, std::size_t n, std::size_t k
       block.a_offset = u32(a.offset + k0 * a_cs);
       block.b_offset = u32(b.offset + k0 * b.ld);
       if (k0 > 0) block.beta = 1.0f;
-      launch_own(*gemm_, block, {tiles_n, tiles_m}, {local0, local1});
+      launch(block, tiles_m);
     }
     return;
   }
   if (slices == 1) {
-    launch_own(*gemm_, plain, {tiles_n, tiles_m}, {local0, local1});
+    launch(plain, tiles_m);
     return;
   }
   if (use_bias || epilogue.act != Act::None)
@@ -195,7 +230,7 @@ void Gemm::run_own(Op op_a, Op op_b, std::size_t m, std::size_t n, std::size_t k
   split.c_slice = u32(m * n);
   split.bias = split.c;
   split.bias_offset = 0;
-  launch_own(*gemm_, split, {tiles_n, tiles_m * slices}, {local0, local1});
+  launch(split, tiles_m * slices);
   auto& p = *split.c;
   reduce_->args(u32(m), u32(n), u32(slices), p, alpha, beta, *c.buf, u32(c.offset), u32(c.ld)).launch({n, m}, {16, 4});
 }
@@ -252,8 +287,12 @@ GemmPlan choose_gemm_plan(cl::Context& ctx, GemmChoice choice) {
   if (choice == GemmChoice::CLBlast) return {GemmBackend::CLBlast, tiles.front()};
   std::vector<GemmPlan> candidates;
   for (const auto& t : tiles) candidates.push_back({GemmBackend::Own, t});
+  for (const auto& b : gemm_blocks(ctx.device())) candidates.push_back({GemmBackend::Tiled, tiles.front(), b});
   if (choice == GemmChoice::Auto) candidates.push_back({GemmBackend::CLBlast, tiles.front()});
   if (candidates.size() == 1) return candidates.front();
+  // A simulator (Oclgrind) interprets every work-item: its times say nothing about a device, and one probe product
+  // takes minutes there. It runs the first candidate; tests that check a plan name it.
+  if (ctx.device().simulator) return candidates.front();
 
   ProbeCache cache(ctx);
   const std::size_t m = 4096, n = 512, k = 512;

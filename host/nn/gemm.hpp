@@ -1,11 +1,12 @@
 #pragma once
-// Matrix products for the networks, on one of two backends chosen per device (docs/design.md §6):
+// Matrix products for the networks, on one of three backends chosen per device (docs/design.md §6):
 //   own      kernels/gemm.cl, register-blocked without local memory: fast on PoCL's CPU device;
+//   tiled    kernels/gemm_tiled.cl, work-group tiles staged through __local memory: the GPU shape;
 //   clblast  CLBlast's tuned kernels on our cl_mem and queue: fast on GPUs, untuned (slow) on PoCL.
 // The own kernel's register tile must fit the vector register file, which differs between CPUs (AVX-512: 32 × 16
-// floats, AVX2: 16 × 8), so it has a few candidate tiles per device type. `auto` times every candidate and CLBlast,
-// `own` only the tiles, on a 4096×512×512 product once per device and driver; the times are cached
-// ($XDG_CACHE_HOME/clradiosity/gemm_probe.json, else ~/.cache/...).
+// floats, AVX2: 16 × 8), so it has a few candidate tiles per device type, and the tiled kernel a few block shapes.
+// `auto` times every candidate and CLBlast, `own` only our kernels (tiles and blocks), on a 4096×512×512 product
+// once per device and driver; the times are cached ($XDG_CACHE_HOME/clradiosity/gemm_probe.json, else ~/.cache/...).
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -17,7 +18,7 @@
 
 namespace clr::nn {
 
-enum class GemmBackend { Own, CLBlast };
+enum class GemmBackend { Own, Tiled, CLBlast };
 enum class GemmChoice { Auto, Own, CLBlast };
 enum class Op { N, T };                            // op(X) = X or Xᵀ
 enum class Act : unsigned { None = 0, Relu = 1 };  // values match ACT_* in kernels/gemm.cl
@@ -31,15 +32,27 @@ struct GemmTile {
   unsigned tm, vw, nv;
   unsigned columns() const { return vw * nv; }
 };
-// What a Gemm runs: the backend, and the tile of the own kernels (used for every product on `own`).
+// A work-group of the tiled kernel computes bm × bn of C from bk-deep panels of A and B staged in __local memory;
+// each of its (bm/wm)·(bn/wn) work-items keeps wm × wn of C in registers (BM, BN, BK, WM, WN in gemm_tiled.cl).
+struct GemmBlock {
+  unsigned bm, bn, bk, wm, wn;
+  std::size_t group_columns() const { return bn / wn; }  // the work-group's extent in dimension 0
+  std::size_t group_rows() const { return bm / wm; }
+  std::size_t local_bytes() const { return sizeof(float) * bk * ((bm + 1) + bn); }  // As (padded) and Bs
+};
+// What a Gemm runs: the backend, the tile of the own kernel (`own`) and the block of the tiled one (`tiled`).
 struct GemmPlan {
   GemmBackend backend;
   GemmTile tile;
+  GemmBlock block{};
 };
-std::string to_string(const GemmPlan& plan);  // "clblast" or "own TMxVWxNV", e.g. "own 6x16x1"
+// "clblast", "own TMxVWxNV" (e.g. "own 6x16x1") or "tiled BMxBNxBK/WMxWN" (e.g. "tiled 64x64x16/4x4")
+std::string to_string(const GemmPlan& plan);
 
 // The own kernel's candidate tiles for this device, the first being the default when nothing is timed.
 std::vector<GemmTile> gemm_tiles(const cl::DeviceInfo& device);
+// The tiled kernel's candidate blocks for this device (all within NVIDIA's 48 KiB and 1024 work-items); none on CPUs.
+std::vector<GemmBlock> gemm_blocks(const cl::DeviceInfo& device);
 
 // A row-major matrix inside a buffer: element (i, j) is at buf[offset + i·ld + j].
 struct MatRef {

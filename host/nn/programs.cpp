@@ -8,6 +8,11 @@ std::string gemm_options(unsigned tm, unsigned vw, unsigned nv) {
   return "-DTM=" + std::to_string(tm) + " -DVW=" + std::to_string(vw) + " -DNV=" + std::to_string(nv);
 }
 
+std::string gemm_tiled_options(const GemmBlock& b) {
+  return "-DBM=" + std::to_string(b.bm) + " -DBN=" + std::to_string(b.bn) + " -DBK=" + std::to_string(b.bk) +
+         " -DWM=" + std::to_string(b.wm) + " -DWN=" + std::to_string(b.wn);
+}
+
 std::string hashgrid_options(unsigned features, bool fixed_point_grad) {
   return "-DF=" + std::to_string(features) + (fixed_point_grad ? " -DFIXED_POINT_GRAD" : "");
 }
@@ -30,6 +35,10 @@ std::vector<Build> every_build(const cl::DeviceInfo& device, unsigned fused_inpu
   for (const auto& t : gemm_tiles(device))
     out.push_back({"gemm_" + std::to_string(t.tm) + "x" + std::to_string(t.vw) + "x" + std::to_string(t.nv), gemm,
                    gemm_options(t.tm, t.vw, t.nv)});
+  for (const auto& b : gemm_blocks(device))
+    out.push_back({"gemm_tiled_" + std::to_string(b.bm) + "x" + std::to_string(b.bn) + "x" + std::to_string(b.bk) +
+                       "_" + std::to_string(b.wm) + "x" + std::to_string(b.wn),
+                   gemm_tiled, gemm_tiled_options(b)});
   for (const unsigned f : {1u, 2u, 4u, 8u}) {
     out.push_back({"hashgrid_F" + std::to_string(f), hashgrid, hashgrid_options(f, false)});
     if (device.int64_atomics)

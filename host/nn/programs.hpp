@@ -10,6 +10,10 @@
 
 #include "cl/device.hpp"
 
+namespace clr::nn {
+struct GemmBlock;
+}
+
 namespace clr::nn::programs {
 
 using Files = std::vector<std::string>;
@@ -18,6 +22,7 @@ using Files = std::vector<std::string>;
 inline const Files adam = {"atomics.cl", "adam.cl"};
 inline const Files loss = {"atomics.cl", "loss.cl"};
 inline const Files gemm = {"gemm.cl"};
+inline const Files gemm_tiled = {"gemm.cl", "gemm_tiled.cl"};  // gemm.cl's epilogue and helper kernels too
 inline const Files hashgrid = {"atomics.cl", "hashgrid.cl"};
 inline const Files mlp = {"mlp.cl"};
 inline const Files mlp_fused = {"mlp_fused.cl"};
@@ -27,6 +32,7 @@ inline const Files vmf = {"atomics.cl", "vmf.cl", "guide.cl"};
 inline const Files exchange = {"exchange.cl"};
 
 std::string gemm_options(unsigned tm, unsigned vw, unsigned nv);
+std::string gemm_tiled_options(const GemmBlock& block);
 std::string hashgrid_options(unsigned features, bool fixed_point_grad);
 std::string mlp_fused_options(unsigned inputs, unsigned width, unsigned hidden_layers, unsigned outputs);
 std::string exchange_options(bool int64_grads);
@@ -40,10 +46,10 @@ struct Build {
   std::string options;
 };
 
-// Every (files, options) the host may build on `device`: the GEMM at each tile its probe may pick for the
-// device's type, the hash grid at each feature count (fixed-point gradients where the device has int64 atomics),
-// the fused MLP at each shape it accepts (with `fused_inputs` inputs), the gradient exchange for both gradient
-// types, and the programs without variants.
+// Every (files, options) the host may build on `device`: the GEMM at each tile and block its probe may pick
+// for the device's type, the hash grid at each feature count (fixed-point gradients where the device has int64
+// atomics), the fused MLP at each shape it accepts (with `fused_inputs` inputs), the gradient exchange for both
+// gradient types, and the programs without variants.
 std::vector<Build> every_build(const cl::DeviceInfo& device, unsigned fused_inputs = 16);
 
 }  // namespace clr::nn::programs

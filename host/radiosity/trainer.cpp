@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -23,6 +24,19 @@
 namespace clr::radiosity {
 namespace fs = std::filesystem;
 namespace {}  // namespace
+
+StepSchedule parse_step_schedule(const std::string& text) {
+  if (text == "serial") return StepSchedule::Serial;
+  if (text == "pipelined") return StepSchedule::Pipelined;
+  throw InputError("step schedule '" + text + "' is not one of serial, pipelined");
+}
+
+StepSchedule default_schedule() {
+  if (const char* env = std::getenv("CLRADIOSITY_STEP_SCHEDULE"); env && *env) return parse_step_schedule(env);
+  // Pipelined on every device: on GPUs it hides the host's stages; on PoCL, where host and device share the cores,
+  // it was not slower than serial (docs/results/benchmarks.md), so one schedule serves both.
+  return StepSchedule::Pipelined;
+}
 
 int default_batch(const cl::DeviceInfo& device) { return device.type == cl::DeviceType::Gpu ? 16384 : 4096; }
 
@@ -83,17 +97,52 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
   batch_settings_.guide = guide_ != nullptr;
   batch_settings_.bsdf_fraction = guide_ ? float(config_.bsdf_fraction_at(0.0)) : 1.0f;
   non_finite_.fill(0u);
+  set_schedule(default_schedule());
+}
+
+void Trainer::set_schedule(StepSchedule schedule) {
+  schedule_ = schedule;
+  incident_.set_pinned_uploads(schedule == StepSchedule::Pipelined);
+  prepared_.reset();
+}
+
+void Trainer::prepare_ahead(std::uint64_t step) {
+  sample_training_points(sampler_, geometry_->scene(), batch_settings_, config_.seed, step, batch_);
+  // ISNR guides a share 1 - c of the directions from the first step on (the warm-up ramps c down from 1), and those
+  // need step k+1's lobes, i.e. the I-Module after step k's update: only a run with c = 1 throughout traces ahead.
+  const bool trace = !IncidentSampling::guided(batch_settings_) && (!guide_ || config_.bsdf_fraction >= 1.0);
+  if (trace) incident_.trace(*geometry_, batch_settings_, config_.seed, step, batch_);
+  prepared_ = Prepared{step, batch_settings_, trace};
 }
 
 StepStats Trainer::step() {
   // Both modules step together, so their counts agree unless the N-Module is held.
   const std::uint64_t step = guide_ ? guide_->steps() : network_->steps();
-  sample_training_points(sampler_, geometry_->scene(), batch_settings_, config_.seed, step, batch_);
+  // A batch prepared ahead serves this step only if it was drawn for it with these settings (run() changes c and
+  // the schedules between steps; the points do not depend on c).
+  bool ahead = false, traced = false;
+  if (prepared_) {
+    BatchSettings drawn = prepared_->settings;
+    if (!prepared_->traced) drawn.bsdf_fraction = batch_settings_.bsdf_fraction;
+    ahead = prepared_->step == step && drawn == batch_settings_;
+    traced = ahead && prepared_->traced;
+    prepared_.reset();
+  }
+  if (ahead) ++steps_prepared_ahead_;
+  const bool pipelined = schedule_ == StepSchedule::Pipelined;
+  if (!ahead) sample_training_points(sampler_, geometry_->scene(), batch_settings_, config_.seed, step, batch_);
   const std::size_t M = batch_.points, N = batch_.samples;
-  cl::upload(*ctx_, point_rows_, batch_.point_rows);
+  if (pipelined)
+    point_rows_up_.send(*ctx_, point_rows_, batch_.point_rows);
+  else
+    cl::upload(*ctx_, point_rows_, batch_.point_rows);
   // The I-Module's lobes at the points, activations kept for its backward.
-  if (guide_) guide_->forward_train(point_rows_, M, guide_ctx_);
-  incident_.sample(*geometry_, batch_settings_, config_.seed, step, guide_ ? &guide_ctx_.output() : nullptr, batch_);
+  if (guide_) {
+    guide_->forward_train(point_rows_, M, guide_ctx_);
+    incident_.decode(guide_ctx_.output(), batch_);
+  }
+  if (!traced) incident_.trace(*geometry_, batch_settings_, config_.seed, step, batch_);
+  incident_.upload(batch_settings_, batch_);
   const std::size_t K = batch_.lookups();
   cl::reserve(*ctx_, incident_radiance_, K * 3);
   cl::reserve(*ctx_, rhs_, M * 3);
@@ -138,6 +187,12 @@ StepStats Trainer::step() {
   StepStats stats;
   stats.lookups = K;
   stats.guided = batch_.guided;
+  // Step k's network math is enqueued and needs none of batch_'s host arrays any more (uploads copied them): the
+  // host prepares step k+1 while the device computes. Not after the run's last step.
+  if (pipelined && (config_.steps <= 0 || step + 1 < std::uint64_t(config_.steps))) {
+    cl::flush(*ctx_);
+    prepare_ahead(step + 1);
+  }
   return stats;
 }
 

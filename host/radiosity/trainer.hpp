@@ -8,7 +8,9 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 
+#include "cl/async.hpp"
 #include "cl/context.hpp"
 #include "distributed/gradient_exchange.hpp"
 #include "nn/loss.hpp"
@@ -24,6 +26,18 @@ namespace clr::radiosity {
 // bounding box, inputs the scene needs (albedo only when it varies), and the user's `network` overrides on top.
 nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
                                           const TrainConfig& config, const cl::DeviceInfo& device);
+
+// How a step's host and device stages follow each other (docs/design.md §2). Serial: the host builds step k's
+// batch, then the device runs its network math, uploads blocking. Pipelined: once step k's device work is enqueued
+// (and flushed), the host prepares step k+1's batch as far as it does not depend on the networks — its points, and
+// where nothing is guided its traced incident half — while the device computes; uploads are non-blocking writes
+// from pinned memory. Both give the same parameters bit for bit: every random stream is keyed by (seed, step, use,
+// index), and a batch prepared ahead is used only if the step and its settings are still the ones it was drawn for.
+enum class StepSchedule { Serial, Pipelined };
+// "serial" | "pipelined"; anything else throws InputError.
+StepSchedule parse_step_schedule(const std::string& text);
+// CLRADIOSITY_STEP_SCHEDULE when set, else pipelined.
+StepSchedule default_schedule();
 
 struct StepStats {
   double loss = 0;          // mean residual loss over the batch
@@ -57,6 +71,10 @@ class Trainer {
   void run(const RunOptions& options);
   void run() { run(RunOptions{}); }
   StepStats step();
+  void set_schedule(StepSchedule schedule);
+  StepSchedule schedule() const { return schedule_; }
+  // Steps whose batch was prepared during the step before (pipelined) and used.
+  std::uint64_t steps_prepared_ahead() const { return steps_prepared_ahead_; }
   void save_checkpoint() const;
   // The networks as they are now, as a run directory of their own (model.clr + config.json) that render, residual
   // and guide read: a sweep's snapshot of the run at one budget.
@@ -80,6 +98,9 @@ class Trainer {
   static constexpr long kRankCheckEvery = 200;
   void share_rank0_state();
   void check_ranks_agree(std::uint64_t step) const;
+  // The host's stages of `step` that need neither network: its points, and its traced incident half where no
+  // direction is guided (method nr, or isnr with c = 1 throughout).
+  void prepare_ahead(std::uint64_t step);
 
   cl::Context* ctx_;
   const geometry::Geometry* geometry_;
@@ -96,6 +117,16 @@ class Trainer {
   cl::Buffer<float> point_rows_, incident_radiance_, rhs_, d_output_;
   cl::Buffer<std::uint32_t> non_finite_;
   cl::Kernel rhs_kernel_;
+  StepSchedule schedule_ = StepSchedule::Serial;
+  // The batch in batch_ was prepared ahead for this step with these settings (incident half included if traced).
+  struct Prepared {
+    std::uint64_t step;
+    BatchSettings settings;
+    bool traced;
+  };
+  std::optional<Prepared> prepared_;
+  std::uint64_t steps_prepared_ahead_ = 0;
+  cl::PinnedUpload<float> point_rows_up_;
   // The I-Module (method isnr only).
   std::unique_ptr<nn::Network> guide_;
   nn::NetworkContext guide_ctx_;

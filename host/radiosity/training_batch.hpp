@@ -49,6 +49,9 @@ struct BatchSettings {
   // This process's points are [first_point, first_point + points) of the step's sequence: every stream is keyed
   // by a point's index in it, so MPI ranks drawing their shares draw the one-process batch between them.
   std::size_t first_point = 0;
+
+  // The trainer's pipeline checks that a batch prepared ahead was drawn with the settings of the step it serves.
+  bool operator==(const BatchSettings&) const = default;
 };
 
 // The first half, on the host: points, directions ω_o, their raw input rows.

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "common/error.hpp"
+#include "nn/programs.hpp"
 #include "support/cl_fixture.hpp"
 #include "support/tolerance.hpp"
 
@@ -106,6 +107,60 @@ TEST_F(GemmTest, OwnKernelMatchesTwinWithEveryTile) {
     nn::Gemm gemm(ctx(), nn::GemmPlan{nn::GemmBackend::Own, tile});
     SCOPED_TRACE(nn::to_string(gemm.plan()));
     for (const auto& c : cases()) check(gemm, c);
+  }
+}
+
+// The local-memory tiled kernel at every block of CPUs and GPUs, on the engine's transposes and sizes that leave
+// ragged edges in every dimension of a block (rows, columns and the bk-deep k steps). The narrow output layer
+// (n ≤ 4 with op(B) = B) runs gemm_narrow_nn whatever the plan and is tested above.
+TEST_F(GemmTest, TiledKernelMatchesTwinWithEveryBlock) {
+  using nn::Act;
+  using nn::Op;
+  std::vector<Case> tiled_cases;
+  std::vector<nn::GemmBlock> blocks;
+  if (ctx().device().simulator) {
+    // Oclgrind interprets every work-item (the full list takes ~8 minutes there): one block, small products that
+    // still leave every edge ragged, each transpose, and a k long enough for split-K on its GPU-typed device.
+    tiled_cases = {{Op::N, Op::N, 37, 45, 19, 1.0f, 0.0f, true, Act::Relu},
+                   {Op::N, Op::T, 70, 66, 20, 0.5f, 0.0f, false, Act::None},
+                   {Op::T, Op::N, 40, 70, 520, 1.0f, 1.0f, false, Act::None},
+                   {Op::T, Op::T, 20, 30, 40, -2.0f, 0.25f, false, Act::None}};
+    cl::DeviceInfo gpu = ctx().device();
+    gpu.type = cl::DeviceType::Gpu;
+    blocks = {nn::gemm_blocks(gpu).front()};
+  } else {
+    for (const auto& c : cases())
+      if (!(c.n <= 4 && c.op_b == Op::N)) tiled_cases.push_back(c);
+    tiled_cases.push_back({Op::N, Op::N, 131, 70, 37, 1.0f, 0.0f, true, Act::Relu});    // past one block, k ragged
+    tiled_cases.push_back({Op::T, Op::N, 70, 129, 300, 1.0f, 1.0f, false, Act::None});  // dW, accumulated
+    tiled_cases.push_back({Op::N, Op::T, 65, 140, 66, 1.0f, 0.0f, false, Act::None});   // dX = dZ·Wᵀ
+    for (const cl::DeviceType type : {cl::DeviceType::Cpu, cl::DeviceType::Gpu}) {
+      cl::DeviceInfo device = ctx().device();
+      device.type = type;
+      for (const auto& b : nn::gemm_blocks(device)) blocks.push_back(b);
+    }
+  }
+  for (const auto& block : blocks) {
+    nn::Gemm gemm(ctx(), nn::GemmPlan{nn::GemmBackend::Tiled, nn::gemm_tiles(ctx().device()).front(), block});
+    SCOPED_TRACE(nn::to_string(gemm.plan()));
+    for (const auto& c : tiled_cases) check(gemm, c);
+  }
+}
+
+// Every block stays within NVIDIA's limits (48 KiB of local memory, 1024 work-items a group), and the host's
+// count of a block's local memory is what the compiled kernel reports (the launch check relies on both).
+TEST_F(GemmTest, TiledBlocksFitNvidiasLimits) {
+  cl::DeviceInfo gpu = ctx().device();
+  gpu.type = cl::DeviceType::Gpu;
+  for (const auto& b : nn::gemm_blocks(gpu)) {
+    const auto name = nn::to_string(nn::GemmPlan{nn::GemmBackend::Tiled, {1, 1, 1}, b});
+    EXPECT_LE(b.group_columns() * b.group_rows(), 1024u) << name;
+    EXPECT_LE(b.local_bytes(), 48u * 1024u) << name;
+    EXPECT_EQ(b.bm % b.wm, 0u) << name;
+    EXPECT_EQ(b.bn % b.wn, 0u) << name;
+    const cl::Kernel k =
+        ctx().program(nn::programs::gemm_tiled, nn::programs::gemm_tiled_options(b)).kernel("gemm_tiled");
+    EXPECT_EQ(k.local_mem_bytes(), b.local_bytes()) << name;
   }
 }
 

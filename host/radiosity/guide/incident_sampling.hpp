@@ -6,6 +6,7 @@
 // per-sample arrays uploaded, ready for the right-hand side and the guide's loss.
 #include <optional>
 
+#include "cl/async.hpp"
 #include "cl/buffer.hpp"
 #include "cl/context.hpp"
 #include "cl/kernel.hpp"
@@ -20,9 +21,22 @@ class IncidentSampling {
 
   // After sample_training_points filled `batch`'s points: draws its incident half, with settings.guide from the
   // mixture with `lobes` ([points × 32] raw I-Module outputs on the device; c = 1 draws from the BSDF alone but
-  // still forms q for the guide's loss), else from the BSDF alone (lobes unused).
+  // still forms q for the guide's loss), else from the BSDF alone (lobes unused). The three parts below in order.
   void sample(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed, std::uint64_t step,
               const cl::Buffer<float>* lobes, TrainingBatch& batch);
+
+  // The parts of sample(), for the trainer's pipeline (docs/design.md §2), which traces ahead where nothing is
+  // guided. decode: with settings.guide, the lobes in each point's frame (device). trace: the guided directions
+  // drawn and read back where c < 1 (device, blocking: needs decode first), then BSDF sampling and tracing (host);
+  // where c = 1 host work alone, which needs neither the lobes nor the device. upload: the batch's arrays to the
+  // device and p̃ formed there; the arrays may change as soon as it returns.
+  static bool guided(const BatchSettings& settings) { return settings.guide && settings.bsdf_fraction < 1.0f; }
+  void decode(const cl::Buffer<float>& lobes, const TrainingBatch& batch);
+  void trace(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed, std::uint64_t step,
+             TrainingBatch& batch);
+  void upload(const BatchSettings& settings, const TrainingBatch& batch);
+  // Uploads as non-blocking writes from pinned host memory (the pipelined step), instead of blocking writes.
+  void set_pinned_uploads(bool pinned) { pinned_ = pinned; }
 
   // Device copies of the last batch's arrays (directions and bsdf_pdf only with lobes).
   cl::Buffer<float> incident_rows, weight, emitted, pdf, directions, bsdf_pdf;
@@ -39,12 +53,24 @@ class IncidentSampling {
   VmfMixture& vmf() { return vmf_; }
 
  private:
+  template <typename T>
+  void put(cl::PinnedUpload<T>& pinned, cl::Buffer<T>& dst, const std::vector<T>& host) {
+    if (pinned_)
+      pinned.send(*ctx_, dst, host);
+    else
+      cl::upload(*ctx_, dst, host);
+  }
+
   cl::Context* ctx_;
   VmfMixture vmf_;
+  bool pinned_ = false;
   std::vector<float> normals_host_, uniforms_host_, guided_host_;
   std::size_t direct_points_ = 0;         // points in `direct`; 0 when the last batch had no delta lights
   std::optional<cl::Kernel> add_direct_;  // built on first use
   cl::Buffer<float> normals_, uniforms_, guided_, q_;
+  cl::PinnedUpload<float> normals_up_, uniforms_up_, rows_up_, weight_up_, emitted_up_, pdf_up_, directions_up_,
+      bsdf_pdf_up_, direct_up_;
+  cl::PinnedUpload<int> lookup_up_;
 };
 
 }  // namespace clr::radiosity

@@ -1,0 +1,93 @@
+#pragma once
+// Work on the context's in-order queue that the host does not wait for (docs/design.md §2, the pipelined step).
+//
+// flush: submits what is enqueued so far. Some drivers (NVIDIA's) hold enqueued commands until a flush or a
+// blocking call, so without it the device would sit idle while the host prepares the next step.
+//
+// PinnedUpload: one host-to-device stream that is sent again every step (a training batch's per-point and per-sample
+// arrays): the data is copied into pinned host memory (CL_MEM_ALLOC_HOST_PTR, mapped once for the life of the stream)
+// and written to the device buffer without blocking. A GPU DMAs from pinned memory directly (from pageable memory the
+// driver stages through its own pinned buffer and the write blocks the host), and the host returns at once, so it
+// can prepare the next step while the transfer and the kernels after it run (docs/design.md §2, the pipeline).
+// The event of the last write guards the pinned memory: the next send waits for it before overwriting, so the
+// caller's vector may change as soon as send returns. Pinned memory is host memory: it is not counted as device
+// memory (Context's accounting).
+#include <CL/cl.h>
+
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+#include "cl/buffer.hpp"
+#include "cl/context.hpp"
+#include "cl/error.hpp"
+#include "cl/handle.hpp"
+
+namespace clr::cl {
+
+inline void flush(const Context& ctx) { CLR_CL_CHECK(clFlush(ctx.queue())); }
+
+template <typename T>
+class PinnedUpload {
+ public:
+  PinnedUpload() = default;
+  PinnedUpload(const PinnedUpload&) = delete;
+  PinnedUpload& operator=(const PinnedUpload&) = delete;
+  ~PinnedUpload() { release(); }
+
+  // dst (grown to fit, at least one element) receives `host`; returns before the transfer ends.
+  void send(Context& ctx, Buffer<T>& dst, const std::vector<T>& host) {
+    reserve(ctx, dst, host.size());
+    if (host.empty()) return;
+    wait();
+    if (host.size() > capacity_) grow(ctx, host.size());
+    std::memcpy(mapped_, host.data(), host.size() * sizeof(T));
+    cl_event done = nullptr;
+    CLR_CL_CHECK(
+        clEnqueueWriteBuffer(ctx.queue(), dst.get(), CL_FALSE, 0, host.size() * sizeof(T), mapped_, 0, nullptr, &done));
+    last_ = EventHandle(done);
+  }
+
+ private:
+  void wait() {
+    if (last_) {
+      const cl_event e = last_.get();
+      CLR_CL_CHECK(clWaitForEvents(1, &e));
+      last_ = EventHandle();
+    }
+  }
+  // Capacity grows by half again over the request, so a batch whose size varies a little (the compacted lookup
+  // rows) does not re-pin every step.
+  void grow(Context& ctx, std::size_t count) {
+    release();
+    capacity_ = count + count / 2;
+    cl_int status = CL_SUCCESS;
+    pinned_ = MemHandle(
+        clCreateBuffer(ctx.get(), CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR, capacity_ * sizeof(T), nullptr, &status));
+    CLR_CL_CHECK(status);
+    queue_ = ctx.queue();
+    void* p = clEnqueueMapBuffer(queue_, pinned_.get(), CL_TRUE, CL_MAP_WRITE, 0, capacity_ * sizeof(T), 0, nullptr,
+                                 nullptr, &status);
+    CLR_CL_CHECK(status);
+    mapped_ = static_cast<T*>(p);
+  }
+  // Unmapping is enqueued behind the last write from the mapping (in-order queue), and the runtime keeps the buffer
+  // until the commands using it are done, so nothing waits here. A destructor does not throw: a failure (only at
+  // teardown of a broken context) is ignored.
+  void release() noexcept {
+    if (!pinned_) return;
+    if (mapped_) clEnqueueUnmapMemObject(queue_, pinned_.get(), mapped_, 0, nullptr, nullptr);
+    mapped_ = nullptr;
+    last_ = EventHandle();
+    pinned_ = MemHandle();
+    capacity_ = 0;
+  }
+
+  MemHandle pinned_;
+  cl_command_queue queue_ = nullptr;
+  T* mapped_ = nullptr;
+  std::size_t capacity_ = 0;
+  EventHandle last_;
+};
+
+}  // namespace clr::cl
