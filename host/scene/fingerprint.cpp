@@ -13,13 +13,13 @@ SceneFingerprint fingerprint(const Scene& scene) {
   f.scene = scene.files.front();
   const fs::path folder = fs::absolute(f.scene).lexically_normal().parent_path();
   Digest all;
-  for (const auto& file : scene.files) {
-    const fs::path absolute = fs::absolute(file).lexically_normal();
+  for (std::size_t i = 0; i < scene.files.size(); ++i) {
+    const fs::path absolute = fs::absolute(scene.files[i]).lexically_normal();
     const fs::path relative = absolute.lexically_relative(folder);
     const bool inside = !relative.empty() && *relative.begin() != "..";
-    SceneFingerprint::File entry{(inside ? relative : absolute).generic_string(), Digest().add_file(file).hex()};
+    SceneFingerprint::File entry{(inside ? relative : absolute).generic_string(), scene.file_digests.at(i)};
     // The scene file is named by its position: a renamed scene.xml with the same content is the same scene.
-    all.add(&file == &scene.files.front() ? "" : entry.name).add("\n").add(entry.digest).add("\n");
+    all.add(i == 0 ? "" : entry.name).add("\n").add(entry.digest).add("\n");
     f.files.push_back(std::move(entry));
   }
   f.digest = all.hex();

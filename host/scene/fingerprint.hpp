@@ -1,7 +1,8 @@
 #pragma once
 // What a run, a model or a sweep records of the scene it belongs to, so that using it with another scene is
-// refused instead of silently giving that scene's answer with this one's bounding box and inputs: a digest of
-// every file the scene read (Scene::files), each named relative to the scene's folder. Contents, not paths, decide:
+// refused instead of silently giving that scene's answer with this one's bounding box and inputs: the digest of
+// every file the scene read, taken as the loader read it (Scene::files, Scene::file_digests), each named relative
+// to the scene's folder. Contents, not paths, decide:
 // a scene folder that was copied or moved keeps its runs; a mesh edited in place does not.
 #include <filesystem>
 #include <string>

@@ -39,6 +39,9 @@ struct Scene {
   // Every file the scene was read from — the XML first, then includes, meshes, textures and environment maps in the
   // order first read: a command's inputs (no output may replace one) and what a scene's fingerprint covers.
   std::vector<std::filesystem::path> files;
+  // Each file's content digest (common/digest.hpp), taken when the loader read it: what the scene was made of, even
+  // if the file changes or goes away later (scene/fingerprint.hpp).
+  std::vector<std::string> file_digests;
 
   const Bsdf& bsdf(const Shape& s) const { return *materials[std::size_t(s.material)]; }
 };

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/digest.hpp"
 #include "common/error.hpp"
 #include "scene/fingerprint.hpp"
 
@@ -38,6 +39,7 @@ class RunDirectoryTest : public ::testing::Test {
       fs::create_directories((folder / name).parent_path());
       std::ofstream(folder / name) << content;
       s.files.push_back(folder / name);
+      s.file_digests.push_back(Digest().add_file(folder / name).hex());
     }
     return scene::fingerprint(s);
   }

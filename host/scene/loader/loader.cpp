@@ -7,6 +7,7 @@
 #include <set>
 #include <tuple>
 
+#include "common/digest.hpp"
 #include "common/error.hpp"
 #include "image/image.hpp"
 #include "scene/bsdfs.hpp"
@@ -94,7 +95,9 @@ class Loader final : public loader::Context {
  private:
   // Every file the scene reads, once each, in the order first read (Scene::files).
   void record(const std::filesystem::path& file) {
-    if (recorded_.insert(std::filesystem::weakly_canonical(file)).second) scene_.files.push_back(file);
+    if (!recorded_.insert(std::filesystem::weakly_canonical(file)).second) return;
+    scene_.files.push_back(file);
+    scene_.file_digests.push_back(Digest().add_file(file).hex());
   }
 
   void load_file(const std::filesystem::path& path, const Node* included_from) {
