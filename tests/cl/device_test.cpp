@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "common/error.hpp"
@@ -113,7 +114,19 @@ TEST_F(DeviceSpecTest, BadEnvironmentSpecNamesTheVariable) {
       InputError);
 }
 
-TEST_F(DeviceSpecTest, NoDevicesIsAnInputError) { EXPECT_THROW(select_device({}, ""), InputError); }
+// No device at all is the machine's state, not the user's input: a runtime error (exit 1) that says why.
+TEST_F(DeviceSpecTest, NoDevicesIsTheMachinesFailure) {
+  for (const char* spec : {"", "cpu", "0:0"}) {
+    try {
+      select_device({}, spec);
+      ADD_FAILURE() << spec << ": a device was selected from none";
+    } catch (const InputError&) {
+      ADD_FAILURE() << spec << ": reported as bad input";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("no OpenCL platform"), std::string::npos) << e.what();
+    }
+  }
+}
 
 TEST_F(DeviceSpecTest, DefaultNeverPicksASimulator) {
   // Oclgrind reports itself as a GPU; listed first, it must still lose to the real CPU.
