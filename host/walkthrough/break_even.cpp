@@ -92,7 +92,9 @@ BreakEven measure_break_even(const geometry::Geometry& geometry, const std::vect
     frames.push_back(k == 1 ? 0 : (i * (n - 1) + (k - 1) / 2) / (k - 1));
     views.push_back(cameras[frames.back()]);
   }
-  // The model's frames, back to back as a walkthrough renders them.
+  // The model's frames, back to back as a walkthrough renders them, timed after one untimed frame has built the
+  // kernels for the chunks' sizes and warmed the device: one-off costs that no further frame pays.
+  radiosity::render_frames(geometry, std::span(views.data(), 1), field, o.settings, [](std::size_t, image::Image&&) {});
   std::vector<image::Image> model(k);
   const auto start = std::chrono::steady_clock::now();
   radiosity::render_frames(geometry, views, field, o.settings,
