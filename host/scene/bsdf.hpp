@@ -53,6 +53,15 @@ class Bsdf {
   virtual const Texture* normal_map() const { return nullptr; }
   // An anisotropic lobe, oriented along dp/du like Mitsuba's (so the shading frame must follow the uv map).
   virtual bool anisotropic() const { return false; }
+
+ protected:
+  // A continuous sample at `wi` drawn with this BSDF's own density (pdf() over all its lobes, as multi-lobe BSDFs
+  // sample: one lobe picked, the density the mixture's): weight f·cos / p; nullopt where the density vanishes.
+  std::optional<BsdfSample> continuous_sample(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+    const float p = pdf(uv, wo, wi);
+    if (!(p > 0)) return std::nullopt;
+    return BsdfSample{wi, eval(uv, wo, wi) / p, p, false};
+  }
 };
 
 // Evaluation of a BSDF at a world-space point: the frame it was hit with plus its uv. The trainer's view.

@@ -37,9 +37,7 @@ std::optional<BsdfSample> Conductor::sample(const Vec2& uv, const Vec3& wo, floa
   if (!mf_) return BsdfSample{reflect_z(wo), specular_.eval(uv) * fresnel_conductor(wo.z, eta_, k_), 1.0f, true};
   const Vec3 wi = reflect(wo, microfacet(uv).sample_m(u));
   if (wi.z <= 0) return std::nullopt;
-  const float p = pdf(uv, wo, wi);
-  if (!(p > 0)) return std::nullopt;
-  return BsdfSample{wi, eval(uv, wo, wi) / p, p, false};
+  return continuous_sample(uv, wo, wi);
 }
 
 Rgb Conductor::albedo(const Vec2& uv) const { return specular_.eval(uv) * fresnel_conductor(1.0f, eta_, k_); }

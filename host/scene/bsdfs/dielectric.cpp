@@ -51,9 +51,7 @@ std::optional<BsdfSample> Dielectric::sample_rough(const Vec2& uv, const Vec3& w
   const bool reflection = u_lobe < fr.reflectance;
   const Vec3 wi = reflection ? reflect(wo, m) : refract(wo, m, co, fr.cos_t, fr.eta_ti);
   if ((wi.z * wo.z > 0) != reflection || wi.z == 0) return std::nullopt;
-  const float p = pdf(uv, wo, wi);
-  if (!(p > 0)) return std::nullopt;
-  return BsdfSample{wi, eval(uv, wo, wi) / p, p, false};
+  return continuous_sample(uv, wo, wi);
 }
 
 std::optional<BsdfSample> Dielectric::sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const {

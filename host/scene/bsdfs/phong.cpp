@@ -46,9 +46,7 @@ std::optional<BsdfSample> Phong::sample(const Vec2& uv, const Vec3& wo, float u_
     wi = sample_cosine_hemisphere(u);
   }
   if (wi.z <= 0) return std::nullopt;
-  const float p = pdf(uv, wo, wi);
-  if (!(p > 0)) return std::nullopt;
-  return BsdfSample{wi, eval(uv, wo, wi) / p, p, false};
+  return continuous_sample(uv, wo, wi);
 }
 
 }  // namespace clr::scene

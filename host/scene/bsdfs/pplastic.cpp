@@ -38,9 +38,7 @@ std::optional<BsdfSample> PolarizedPlastic::sample(const Vec2& uv, const Vec3& w
   if (wo.z <= 0) return std::nullopt;
   const Vec3 wi = u_lobe < specular_probability_ ? reflect(wo, mf_.sample_m(u)) : sample_cosine_hemisphere(u);
   if (wi.z <= 0) return std::nullopt;
-  const float p = pdf(uv, wo, wi);
-  if (!(p > 0)) return std::nullopt;
-  return BsdfSample{wi, eval(uv, wo, wi) / p, p, false};
+  return continuous_sample(uv, wo, wi);
 }
 
 }  // namespace clr::scene

@@ -114,9 +114,7 @@ std::optional<BsdfSample> PrincipledThin::sample(const Vec2& uv, const Vec3& wo_
   }
   wi *= s;
   if (wi.z == 0) return std::nullopt;
-  const float p = pdf(uv, wo_in, wi);
-  if (!(p > 0)) return std::nullopt;
-  return BsdfSample{wi, eval(uv, wo_in, wi) / p, p, false};
+  return continuous_sample(uv, wo_in, wi);
 }
 
 }  // namespace clr::scene
