@@ -28,16 +28,6 @@ namespace {
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-scene::Vec3 centre_of(const scene::Scene& s) {
-  scene::Vec3 lo(1e30f), hi(-1e30f);
-  for (const auto& shape : s.shapes)
-    for (const auto& v : shape.mesh.positions) {
-      lo = glm::min(lo, v);
-      hi = glm::max(hi, v);
-    }
-  return 0.5f * (lo + hi);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -95,7 +85,7 @@ int main(int argc, char** argv) {
     for (const int spp : spps) {
       // Fewer frames where each is large: every row takes seconds, not minutes, on a 2-core CPU.
       const int frames = std::max(2, int(std::min<long>(16, (long(1) << 21) / (long(size) * size * spp))));
-      const auto cameras = scene::orbit(scene.camera, centre_of(scene), frames);
+      const auto cameras = scene::orbit(scene.camera, scene::geometry_centre(scene.shapes), frames);
       radiosity::RenderSettings settings;
       settings.width = settings.height = size;
       settings.spp = spp;

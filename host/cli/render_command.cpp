@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <limits>
 #include <optional>
 
 #include "cl/context.hpp"
@@ -39,21 +38,10 @@ struct Options {
   bool png_given = false;
 };
 
-// The centre of the scene's geometry: what --orbit turns around.
-scene::Vec3 scene_centre(const scene::Scene& scene) {
-  scene::Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const auto& shape : scene.shapes)
-    for (const auto& v : shape.mesh.positions) {
-      lo = glm::min(lo, v);
-      hi = glm::max(hi, v);
-    }
-  return lo.x <= hi.x ? 0.5f * (lo + hi) : scene::Vec3(0.0f);
-}
-
 // The frames of a camera path into FRAMES_DIR (walkthrough/), then the video and the break-even check.
 int render_walkthrough(const Options& opt, const scene::Scene& scene, const geometry::Geometry& geometry) {
   scene::require_sensor(scene, opt.scene);
-  const auto cameras = opt.path.empty() ? scene::orbit(scene.camera, scene_centre(scene), opt.orbit)
+  const auto cameras = opt.path.empty() ? scene::orbit(scene.camera, scene::geometry_centre(scene.shapes), opt.orbit)
                                         : scene::read_camera_path(opt.path, scene.camera);
   if (!opt.video.empty()) walkthrough::require_video_writer(opt.video);
   std::filesystem::create_directories(opt.output);

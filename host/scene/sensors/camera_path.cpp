@@ -3,6 +3,7 @@
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <limits>
 #include <string>
 
 #include "common/error.hpp"
@@ -136,6 +137,16 @@ std::vector<Camera> read_camera_path(const std::filesystem::path& file, const Ca
     cameras.back().validate(name + ": frame " + std::to_string(i));
   }
   return cameras;
+}
+
+Vec3 geometry_centre(const std::vector<Shape>& shapes) {
+  Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const auto& shape : shapes)
+    for (const auto& v : shape.mesh.positions) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+  return lo.x <= hi.x ? 0.5f * (lo + hi) : Vec3(0.0f);
 }
 
 std::vector<Camera> orbit(const Camera& sensor, const Vec3& centre, int frames) {

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "scene/camera.hpp"
+#include "scene/scene.hpp"
 
 namespace clr::scene {
 
@@ -21,5 +22,8 @@ std::vector<Camera> read_camera_path(const std::filesystem::path& file, const Ca
 // N frames around the vertical axis (the sensor's up) through `centre`, starting at the sensor's view: the sensor's
 // whole transform turned by 360°·i/N, so its distance, height and the way it looks at the scene stay.
 std::vector<Camera> orbit(const Camera& sensor, const Vec3& centre, int frames);
+// The centre of the scene's geometry (its vertices' bounding box; the origin for a scene without shapes): the
+// centre `--orbit` turns around.
+Vec3 geometry_centre(const std::vector<Shape>& shapes);
 
 }  // namespace clr::scene
