@@ -170,9 +170,12 @@ void Gemm::run_own(Op op_a, Op op_b, std::size_t m, std::size_t n, std::size_t k
   std::size_t slices = std::clamp<std::size_t>(ceil_div(want_items, tiles_n * tiles_m * items_x * items_y), 1,
                                                std::max<std::size_t>(1, k / 256));
   slices = std::min(slices, std::max<std::size_t>(1, ctx_->device().max_alloc_bytes / 4 / (m * n)));
+  const unsigned use_bias = epilogue.bias ? 1u : 0u;
+  // The epilogue (bias, activation) applies once to each finished output, after the whole reduction: a product
+  // with one is never split. On a GPU the forward layers (batch × width outputs) may still ask for two slices.
+  if (use_bias || epilogue.act != Act::None) slices = 1;
   const std::size_t k_slice = ceil_div(k, slices);
   slices = ceil_div(k, k_slice);
-  const unsigned use_bias = epilogue.bias ? 1u : 0u;
   const cl::Buffer<float>& bias = epilogue.bias ? *epilogue.bias : *c.buf;
   const OwnGemmArgs plain{.m = u32(m),
                           .n = u32(n),
@@ -217,8 +220,6 @@ void Gemm::run_own(Op op_a, Op op_b, std::size_t m, std::size_t n, std::size_t k
     launch(plain, tiles_m);
     return;
   }
-  if (use_bias || epilogue.act != Act::None)
-    throw std::logic_error("gemm: split-K products take no epilogue (only weight gradients are split)");
   // Each slice writes its partial product to its own m × n block of the scratch buffer; gemm_reduce_slices sums.
   OwnGemmArgs split = plain;
   split.alpha = 1.0f;

@@ -147,8 +147,9 @@ TEST_F(GemmTest, TiledKernelMatchesTwinWithEveryBlock) {
   }
 }
 
-// Every block stays within NVIDIA's limits (48 KiB of local memory, 1024 work-items a group), and the host's
-// count of a block's local memory is what the compiled kernel reports (the launch check relies on both).
+// Every block stays within NVIDIA's limits (48 KiB of local memory, 1024 work-items a group), and the compiled
+// kernel reports at least the host's count of a block's local memory, within the same limit. At least, not exactly:
+// NVIDIA's compiler adds a few bytes of its own (4 on an H200, driver 580); the launch check reads the kernel's figure.
 TEST_F(GemmTest, TiledBlocksFitNvidiasLimits) {
   cl::DeviceInfo gpu = ctx().device();
   gpu.type = cl::DeviceType::Gpu;
@@ -160,7 +161,8 @@ TEST_F(GemmTest, TiledBlocksFitNvidiasLimits) {
     EXPECT_EQ(b.bn % b.wn, 0u) << name;
     const cl::Kernel k =
         ctx().program(nn::programs::gemm_tiled, nn::programs::gemm_tiled_options(b)).kernel("gemm_tiled");
-    EXPECT_EQ(k.local_mem_bytes(), b.local_bytes()) << name;
+    EXPECT_GE(k.local_mem_bytes(), b.local_bytes()) << name;
+    EXPECT_LE(k.local_mem_bytes(), 48u * 1024u) << name;
   }
 }
 
