@@ -9,8 +9,8 @@
 //   IKL (Eq. 20): each term times (2·1[p_n > q_n] − 1), the sign of log(p/q): the integrand's absolute value.
 // sg(L_α) and sg(p̃) hold by construction: only the raw outputs receive a gradient. Delta samples (bsdf_pdf < 0)
 // are not part of q's domain and are skipped. `scale` (1/M for a mean over points) multiplies the gradient and the
-// loss, Σ (1/N) p/p̃ · log(p/q) (or its absolute value), summed into `total`. Non-finite samples are dropped
-// and counted.
+// loss, Σ (1/N) p/p̃ · log(p/q) (or its absolute value), summed into `total` (one atomic a work-group). Non-finite
+// samples are dropped and counted.
 #define GUIDE_MAX_WEIGHT 1024.0f
 
 inline float guide_luminance(float3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
@@ -23,13 +23,12 @@ inline float guide_target(size_t s, __global const float* weight, __global const
   return guide_luminance(li);
 }
 
-__kernel void guide_loss(uint points, uint samples, __global const float* lobes, __global const float* dirs,
+// Point m's gradient into d_raw; returns its share of the loss (0 where it is not finite).
+inline float guide_point(size_t m, uint samples, __global const float* lobes, __global const float* dirs,
                          __global const float* bsdf_pdf, __global const float* pdf, __global const float* weight,
                          __global const float* emitted, __global const int* lookup, __global const float* radiance,
                          __global const float* scattered, float scattered_scale, uint improved, float scale,
-                         __global float* d_raw, volatile __global float* total, volatile __global uint* non_finite) {
-  const size_t m = get_global_id(0);
-  if (m >= points) return;
+                         __global float* d_raw, volatile __global uint* non_finite) {
   __global const float* lp = vmf_point_lobes(lobes, m);
   float8 ga = 0.0f, gb = 0.0f, gc = 0.0f, gd = 0.0f;  // the gradient of the lobes' raw a, b, c, d
 
@@ -76,5 +75,19 @@ __kernel void guide_loss(uint points, uint samples, __global const float* lobes,
   if (!finite) ga = gb = gc = gd = 0.0f;
   vmf_store_raw(ga, gb, gc, gd, d_raw + m * VMF_RAW);
   if (bad) atomic_add(non_finite, bad);
-  if (finite && loss != 0.0f) atomic_add_f32(total, scale * loss);
+  return finite ? scale * loss : 0.0f;
+}
+
+// One work-item a point; the group size is a power of two and `scratch` holds a float a work-item (the loss's sum).
+__kernel void guide_loss(uint points, uint samples, __global const float* lobes, __global const float* dirs,
+                         __global const float* bsdf_pdf, __global const float* pdf, __global const float* weight,
+                         __global const float* emitted, __global const int* lookup, __global const float* radiance,
+                         __global const float* scattered, float scattered_scale, uint improved, float scale,
+                         __global float* d_raw, volatile __global float* total, volatile __global uint* non_finite,
+                         __local float* scratch) {
+  const size_t m = get_global_id(0);
+  const float loss = m < points ? guide_point(m, samples, lobes, dirs, bsdf_pdf, pdf, weight, emitted, lookup, radiance,
+                                              scattered, scattered_scale, improved, scale, d_raw, non_finite)
+                                : 0.0f;
+  group_add_f32(total, loss, scratch);
 }

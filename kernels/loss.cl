@@ -9,7 +9,6 @@ __kernel void loss_l2(uint n, __global const float* pred, __global const float* 
                       float power, __global float* grad, volatile __global float* total,
                       volatile __global uint* non_finite, __local float* scratch) {
   const uint i = (uint)get_global_id(0);
-  const uint lid = (uint)get_local_id(0);
   float l = 0.0f;
   if (i < n) {
     const float p = pred[i];
@@ -24,11 +23,5 @@ __kernel void loss_l2(uint n, __global const float* pred, __global const float* 
     }
     grad[i] = g;
   }
-  scratch[lid] = l;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  for (uint s = (uint)get_local_size(0) / 2; s > 0; s >>= 1) {
-    if (lid < s) scratch[lid] += scratch[lid + s];
-    barrier(CLK_LOCAL_MEM_FENCE);
-  }
-  if (lid == 0) atomic_add_f32(total, scratch[0]);
+  group_add_f32(total, l, scratch);
 }

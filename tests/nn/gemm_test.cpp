@@ -27,7 +27,9 @@ struct Case {
 
 class GemmTest : public ClTest {
  protected:
-  void check(nn::Gemm& gemm, const Case& c) {
+  // `on` is the context `gemm` was made on (the fixture's, or a GPU-shaped one).
+  void check(nn::Gemm& gemm, const Case& c) { check(ctx(), gemm, c); }
+  void check(cl::Context& on, nn::Gemm& gemm, const Case& c) {
     std::mt19937 rng(unsigned(c.m * 131 + c.n * 7 + c.k));
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     // Stored shapes: A is [m × k] or [k × m]; B is [k × n] or [n × k]. Leading dims padded by 3 so a kernel that
@@ -57,11 +59,11 @@ class GemmTest : public ClTest {
         if (c.act == nn::Act::Relu) r = std::max(r, 0.0);
         want[i * c.n + j] = r;
       }
-    cl::Buffer<float> da(ctx(), std::span<const float>(a)), db(ctx(), std::span<const float>(b)),
-        dbias(ctx(), std::span<const float>(bias));
+    cl::Buffer<float> da(on, std::span<const float>(a)), db(on, std::span<const float>(b)),
+        dbias(on, std::span<const float>(bias));
     auto c_host = with_canaries(cm.size());
     std::copy(cm.begin(), cm.end(), c_host.begin());
-    cl::Buffer<float> dc(ctx(), std::span<const float>(c_host));
+    cl::Buffer<float> dc(on, std::span<const float>(c_host));
     gemm.run(c.op_a, c.op_b, c.m, c.n, c.k, c.alpha, nn::mat(da, lda, off), nn::mat(db, ldb, off), c.beta,
              nn::mat(dc, ldc, off), {c.bias ? &dbias : nullptr, 0, c.act});
     dc.read(c_host);
@@ -144,6 +146,30 @@ TEST_F(GemmTest, TiledKernelMatchesTwinWithEveryBlock) {
     nn::Gemm gemm(ctx(), nn::GemmPlan{nn::GemmBackend::Tiled, nn::gemm_tiles(ctx().device()).front(), block});
     SCOPED_TRACE(nn::to_string(gemm.plan()));
     for (const auto& c : tiled_cases) check(gemm, c);
+  }
+}
+
+// The launch shape (split-K, work-groups) follows the device's type and size: on a device that reports itself as a
+// large GPU (an H200's 132 compute units) the same products, forward layers with their epilogue and long k
+// included, still match the twin. The first H200 run found forward products split there, which threw.
+TEST_F(GemmTest, GpuShapedDeviceMatchesTwin) {
+  using nn::Act;
+  using nn::Op;
+  cl::DeviceInfo gpu = ctx().device();
+  gpu.type = cl::DeviceType::Gpu;
+  gpu.compute_units = 132;
+  cl::Context on(gpu);
+  std::vector<Case> gpu_cases = cases();
+  gpu_cases.push_back({Op::N, Op::N, 37, 45, 600, 1.0f, 0.0f, true, Act::Relu});    // a hidden layer, k ≥ 2 slices
+  gpu_cases.push_back({Op::N, Op::N, 40, 64, 520, 1.0f, 0.0f, true, Act::None});    // bias alone
+  gpu_cases.push_back({Op::T, Op::N, 40, 70, 1100, 1.0f, 1.0f, false, Act::None});  // dW: split
+  std::vector<nn::GemmPlan> plans;
+  for (const auto& t : nn::gemm_tiles(gpu)) plans.push_back({nn::GemmBackend::Own, t});
+  for (const auto& b : nn::gemm_blocks(gpu)) plans.push_back({nn::GemmBackend::Tiled, nn::gemm_tiles(gpu).front(), b});
+  for (const auto& plan : plans) {
+    nn::Gemm gemm(on, plan);
+    SCOPED_TRACE(nn::to_string(gemm.plan()));
+    for (const auto& c : gpu_cases) check(on, gemm, c);
   }
 }
 

@@ -43,13 +43,17 @@ void VmfMixture::dlogq(const cl::Buffer<float>& dirs, std::size_t samples, cl::B
   dlogq_.args(lobes_, dirs, nn::u32(points_), nn::u32(samples), out).launch(points_ * samples);
 }
 
+// The loss kernel's group: a power of two (its tree sum needs one), 64 as the other reductions.
+constexpr std::size_t kLossGroup = 64;
+
 void VmfMixture::loss(const GuideSamples& s, std::size_t samples, bool improved, cl::Buffer<float>& d_raw,
                       std::size_t mean_over) {
   loss_
       .args(nn::u32(points_), nn::u32(samples), lobes_, s.dirs, s.bsdf_pdf, s.pdf, s.weight, s.emitted, s.lookup,
             s.radiance, s.scattered, s.scattered_scale, improved ? 1u : 0u,
-            1.0f / float(mean_over ? mean_over : points_), d_raw, total_, non_finite_)
-      .launch(points_);
+            1.0f / float(mean_over ? mean_over : points_), d_raw, total_, non_finite_,
+            cl::LocalMemory{kLossGroup * sizeof(float)})
+      .launch(points_, kLossGroup);
 }
 
 nn::LossValue VmfMixture::take() {
