@@ -1,10 +1,12 @@
 // The I-Module's loss and its gradient w.r.t. the raw lobe outputs (ISNR §4.1–4.2). Needs atomics.cl and vmf.cl.
 // For point m with N samples ω_n drawn from p̃ (the one-sample mixture), from the N-Module's own incident radiance:
 //   t_n = lum(f·cos·L_i(ω_n))   (emitted + weight·sg(L_α), the weights not divided by any pdf)
-//   F = lum(sg(L_α(x, ω_o))),  p_n = t_n / F  — the target density
-// F = ∫ f·cos·L_i dω is what the N-Module predicts at the point itself (it models the scattered radiance), as the
-// paper's §4.3 computes it. An estimate from the N samples instead (self-normalised) was measured to teach
-// little: a point's one lit sample always got p/p̃ = N whatever its radiance.
+//   F = lum(sg(L_α(x, ω_o)) − D),  p_n = t_n / F  — the target density
+// F = ∫ f·cos·L_i dω over the sampled directions is what the N-Module predicts at the point itself (it models the
+// scattered radiance), as the paper's §4.3 computes it, less D, the delta lights' next-event term (use_direct: a
+// scene with point, spot, directional or projector lights), which L_α includes but no sampled direction carries. An
+// estimate from the N samples instead (self-normalised) was measured to teach little: a point's one lit sample always
+// got p/p̃ = N whatever its radiance.
 //   KL  (Eq. 17): ∇ = −(1/N) Σ p_n/p̃_n ∇log q(ω_n)
 //   IKL (Eq. 20): each term times (2·1[p_n > q_n] − 1), the sign of log(p/q): the integrand's absolute value.
 // sg(L_α) and sg(p̃) hold by construction: only the raw outputs receive a gradient. Delta samples (bsdf_pdf < 0)
@@ -27,8 +29,9 @@ inline float guide_target(size_t s, __global const float* weight, __global const
 inline float guide_point(size_t m, uint samples, __global const float* lobes, __global const float* dirs,
                          __global const float* bsdf_pdf, __global const float* pdf, __global const float* weight,
                          __global const float* emitted, __global const int* lookup, __global const float* radiance,
-                         __global const float* scattered, float scattered_scale, uint improved, float scale,
-                         __global float* d_raw, volatile __global uint* non_finite) {
+                         __global const float* scattered, float scattered_scale, __global const float* direct,
+                         uint use_direct, uint improved, float scale, __global float* d_raw,
+                         volatile __global uint* non_finite) {
   __global const float* lp = vmf_point_lobes(lobes, m);
   float8 ga = 0.0f, gb = 0.0f, gc = 0.0f, gd = 0.0f;  // the gradient of the lobes' raw a, b, c, d
 
@@ -44,8 +47,9 @@ inline float guide_point(size_t m, uint samples, __global const float* lobes, __
     const size_t s = m * samples + n;
     if (bsdf_pdf[s] >= 0.0f) f_samples += guide_target(s, weight, emitted, lookup, radiance) / pdf[s];
   }
-  const float F =
-      fmax(scattered_scale * guide_luminance(vload3(m, scattered)), f_samples / ((float)samples * GUIDE_MAX_WEIGHT));
+  float f_point = scattered_scale * guide_luminance(vload3(m, scattered));
+  if (use_direct) f_point -= guide_luminance(vload3(m, direct));
+  const float F = fmax(f_point, f_samples / ((float)samples * GUIDE_MAX_WEIGHT));
   if (!isfinite(F)) ++bad;
   float loss = 0.0f;
   // F = 0: the N-Module sees no light arrive, so there is no target density to learn.
@@ -82,12 +86,13 @@ inline float guide_point(size_t m, uint samples, __global const float* lobes, __
 __kernel void guide_loss(uint points, uint samples, __global const float* lobes, __global const float* dirs,
                          __global const float* bsdf_pdf, __global const float* pdf, __global const float* weight,
                          __global const float* emitted, __global const int* lookup, __global const float* radiance,
-                         __global const float* scattered, float scattered_scale, uint improved, float scale,
-                         __global float* d_raw, volatile __global float* total, volatile __global uint* non_finite,
-                         __local float* scratch) {
+                         __global const float* scattered, float scattered_scale, __global const float* direct,
+                         uint use_direct, uint improved, float scale, __global float* d_raw,
+                         volatile __global float* total, volatile __global uint* non_finite, __local float* scratch) {
   const size_t m = get_global_id(0);
-  const float loss = m < points ? guide_point(m, samples, lobes, dirs, bsdf_pdf, pdf, weight, emitted, lookup, radiance,
-                                              scattered, scattered_scale, improved, scale, d_raw, non_finite)
-                                : 0.0f;
+  const float loss =
+      m < points ? guide_point(m, samples, lobes, dirs, bsdf_pdf, pdf, weight, emitted, lookup, radiance, scattered,
+                               scattered_scale, direct, use_direct, improved, scale, d_raw, non_finite)
+                 : 0.0f;
   group_add_f32(total, loss, scratch);
 }

@@ -48,7 +48,8 @@ class IncidentSampling {
   // The guide's view of those samples, once `radiance` holds sg(L_α) at the incident rows and `scattered` (× scale)
   // the N-Module's radiance at the points.
   GuideSamples guide_samples(const cl::Buffer<float>& radiance, const cl::Buffer<float>& scattered, float scale) const {
-    return {directions, bsdf_pdf, pdf, weight, emitted, lookup, radiance, scattered, scale};
+    return {directions, bsdf_pdf, pdf,       weight, emitted,
+            lookup,     radiance, scattered, scale,  direct_points_ ? &direct : nullptr};
   }
   VmfMixture& vmf() { return vmf_; }
 

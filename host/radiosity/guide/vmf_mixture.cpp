@@ -50,8 +50,8 @@ void VmfMixture::loss(const GuideSamples& s, std::size_t samples, bool improved,
                       std::size_t mean_over) {
   loss_
       .args(nn::u32(points_), nn::u32(samples), lobes_, s.dirs, s.bsdf_pdf, s.pdf, s.weight, s.emitted, s.lookup,
-            s.radiance, s.scattered, s.scattered_scale, improved ? 1u : 0u,
-            1.0f / float(mean_over ? mean_over : points_), d_raw, total_, non_finite_,
+            s.radiance, s.scattered, s.scattered_scale, s.direct ? *s.direct : s.scattered, s.direct ? 1u : 0u,
+            improved ? 1u : 0u, 1.0f / float(mean_over ? mean_over : points_), d_raw, total_, non_finite_,
             cl::LocalMemory{kLossGroup * sizeof(float)})
       .launch(points_, kLossGroup);
 }

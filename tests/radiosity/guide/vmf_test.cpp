@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include "radiosity/guide/vmf_mixture.hpp"
@@ -323,6 +324,7 @@ struct GuideBatch {
   std::vector<float> dirs, bsdf_pdf, pdf, weight, emitted, radiance;
   std::vector<int> lookup;
   std::vector<float> scattered;  // the N-Module's radiance at each point (RGB): F is its luminance
+  std::vector<float> direct;     // the delta lights' term at each point (RGB), or empty: F is lum(scattered − direct)
 };
 
 double luminance(const float* rgb) { return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]; }
@@ -341,10 +343,13 @@ GuideResult run_guide_loss(cl::Context& ctx, const std::vector<double>& raw, con
       pdf(ctx, std::span<const float>(g.pdf)), w(ctx, std::span<const float>(g.weight)),
       e(ctx, std::span<const float>(g.emitted)), rad(ctx, std::span<const float>(radiance)),
       scattered(ctx, std::span<const float>(g.scattered));
+  std::optional<cl::Buffer<float>> direct;
+  if (!g.direct.empty()) direct.emplace(ctx, std::span<const float>(g.direct));
   cl::Buffer<int> lookup(ctx, std::span<const int>(g.lookup));
   auto out_host = with_canaries(g.points * 32);
   cl::Buffer<float> out(ctx, std::span<const float>(out_host));
-  dev.vmf().loss({dirs, bp, pdf, w, e, lookup, rad, scattered}, g.samples, improved, out);
+  dev.vmf().loss({dirs, bp, pdf, w, e, lookup, rad, scattered, 1.0f, direct ? &*direct : nullptr}, g.samples, improved,
+                 out);
   out.read(out_host);
   EXPECT_TRUE(canaries_intact(out_host, g.points * 32));
   out_host.resize(g.points * 32);
@@ -369,12 +374,11 @@ std::vector<vmf::GuideSample> twin_samples(const GuideBatch& g, std::size_t m) {
   return out;
 }
 
-TEST_F(ClTest, GuideKlAndIklGradientsMatchFiniteDifferences) {
-  std::mt19937 rng(9);
+// Three points of six samples each with their lobes (raw) and normals: delta samples, dark samples, misses, and a
+// last point whose N-Module radiance is far below what its samples saw (F is their estimate over N there).
+GuideBatch random_guide_batch(std::mt19937& rng, std::vector<double>& raw, std::vector<dvec3>& normals) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  GuideBatch g{3, 6, {}, {}, {}, {}, {}, {}, {}, {}};
-  std::vector<double> raw;
-  std::vector<dvec3> normals;
+  GuideBatch g{3, 6, {}, {}, {}, {}, {}, {}, {}, {}, {}};
   for (std::size_t m = 0; m < g.points; ++m) {
     const auto r = random_mixture(rng, std::log(50.0));
     raw.insert(raw.end(), r.begin(), r.end());
@@ -395,9 +399,15 @@ TEST_F(ClTest, GuideKlAndIklGradientsMatchFiniteDifferences) {
   }
   for (int i = 0; i < 3 * rows; ++i) g.radiance.push_back(2 * u(rng));
   for (std::size_t i = 0; i < 3 * g.points; ++i) g.scattered.push_back(0.1f + u(rng));
-  // The last point's N-Module radiance far below what its samples saw: F is their estimate over N there.
   std::fill(g.scattered.end() - 3, g.scattered.end(), 1e-6f);
+  return g;
+}
 
+TEST_F(ClTest, GuideKlAndIklGradientsMatchFiniteDifferences) {
+  std::mt19937 rng(9);
+  std::vector<double> raw;
+  std::vector<dvec3> normals;
+  const GuideBatch g = random_guide_batch(rng, raw, normals);
   for (const bool improved : {false, true}) {
     const GuideResult got = run_guide_loss(ctx(), raw, g, improved, normals);
     double loss = 0;
@@ -424,13 +434,42 @@ TEST_F(ClTest, GuideKlAndIklGradientsMatchFiniteDifferences) {
 
 // One lit sample (t = 1) and one dark one, F = 1/(2p̃): p = 2p̃ at the lit sample, and p̃ sets p/q by hand. IKL's
 // gradient is KL's where p > q and its negative where p < q; at p = q the IKL loss vanishes and the magnitude is KL's.
+// A scene's delta lights add their next-event term D to L_α but to no sampled direction, so the guide's target
+// density is normalised by L_α − D: the loss given (L_α, D) is the loss given L_α − D and no D, and differs from
+// the one given L_α alone.
+TEST_F(ClTest, GuideNormaliserLeavesOutTheDeltaLightsTerm) {
+  std::mt19937 rng(11);
+  std::vector<double> raw;
+  std::vector<dvec3> normals;
+  GuideBatch with_direct = random_guide_batch(rng, raw, normals);
+  GuideBatch less_direct = with_direct;
+  for (std::size_t i = 0; i < with_direct.scattered.size(); ++i) {
+    with_direct.direct.push_back(0.5f * with_direct.scattered[i]);
+    less_direct.scattered[i] = with_direct.scattered[i] - with_direct.direct[i];
+  }
+  for (const bool improved : {false, true}) {
+    const GuideResult got = run_guide_loss(ctx(), raw, with_direct, improved, normals);
+    const GuideResult want = run_guide_loss(ctx(), raw, less_direct, improved, normals);
+    GuideBatch ignoring = with_direct;
+    ignoring.direct.clear();
+    const GuideResult ignored = run_guide_loss(ctx(), raw, ignoring, improved, normals);
+    EXPECT_TRUE(near(got.loss, want.loss, {1e-5, 1e-7})) << got.loss << " vs " << want.loss;
+    // The first point's gradient (the last point's F is its samples' bound, which D does not move).
+    EXPECT_FALSE(all_near(std::span<const float>(ignored.d_raw).first(32), std::span<const float>(want.d_raw).first(32),
+                          {1e-2, 1e-7}))
+        << "the test's D must matter";
+    for (std::size_t i = 0; i < want.d_raw.size(); ++i)
+      EXPECT_TRUE(near(got.d_raw[i], want.d_raw[i], {1e-4, 1e-7})) << (improved ? "IKL" : "KL") << " raw " << i;
+  }
+}
+
 TEST_F(ClTest, IklFlipsTheKlGradientWherePIsBelowQ) {
   std::mt19937 rng(4);
   const auto raw = random_mixture(rng, std::log(30.0));
   const dvec3 w = random_direction(rng);
   const double q = vmf::pdf(raw, w);
   for (const double ratio : {4.0, 0.25, 1.0}) {  // p / q
-    GuideBatch g{1, 2, {}, {1.0f, 1.0f}, {}, {}, {}, {}, {-1, -1}, {}};
+    GuideBatch g{1, 2, {}, {1.0f, 1.0f}, {}, {}, {}, {}, {-1, -1}, {}, {}};
     for (int i = 0; i < 2; ++i)
       for (int c = 0; c < 3; ++c) g.dirs.push_back(float(w[c]));
     g.pdf = {float(ratio * q / 2), 1.0f};
