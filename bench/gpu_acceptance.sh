@@ -4,9 +4,10 @@
 #   bench/gpu_acceptance.sh [DEVICE] OUT_DIR
 #
 # DEVICE is a --device SPEC (default: CLRADIOSITY_DEVICE, else the default rule). Steps, each with its own time
-# limit: list the devices; run the kernel and engine tests on DEVICE (ctest labels kernel|engine, PoCL's per-test
-# entries pointed at DEVICE); bench_nn --quick; train the bundled Cornell box with ISNR for 2 minutes (the main
-# job: its MAPE against a path-traced reference); render the run at 512² and time it. Writes OUT_DIR/summary.json
+# limit: list the devices; run the kernel and engine tests on DEVICE (the gtest suites of the `kernel` and `engine`
+# groups in tests/runtimes/lanes.cmake, in one process); bench_nn --quick; train the bundled Cornell box with ISNR
+# for 2 minutes (the main job: its MAPE against a path-traced reference); render the run at 512² and time it;
+# bench_guide and bench_pipeline (the I-Module's share of a step, the pipelined step). Writes OUT_DIR/summary.json
 # and OUT_DIR/log.txt; the last line printed is PASS, or FAIL with the reasons. Binaries come from BUILD_DIR
 # (default build/ci, as the test command builds it). MAPE_MAX (default 0.5) bounds the 2-minute MAPE: a CPU
 # reaches about 0.2 there (docs/results/nr-training.md), so a larger one means training is broken, not slow.
@@ -24,6 +25,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${BUILD_DIR:-$root/build/ci}
 clr=$build/clradiosity
 bench=$build/bench/bench_nn
+tests=$build/tests/clr_tests
 mape_max=${MAPE_MAX:-0.5}
 mkdir -p "$out" || exit 2
 out=$(cd "$out" && pwd)
@@ -50,7 +52,7 @@ step() {
   return $status
 }
 
-for f in "$clr" "$bench"; do
+for f in "$clr" "$bench" "$tests" "$build/bench/bench_guide" "$build/bench/bench_pipeline"; do
   [ -x "$f" ] || { note "FAIL: $f is missing (cmake --workflow --preset ci builds it)"; exit 1; }
 done
 
@@ -58,8 +60,12 @@ step devices 30 "$clr" devices ${device:+--device "$device"}
 device_line=$("$clr" devices ${device:+--device "$device"} 2>/dev/null | grep '^\*' | head -n 1)
 note "device: ${device_line:-none}"
 
-# PoCL's per-test entries are the kernel and engine tests; CLRADIOSITY_DEVICE points them at DEVICE.
-step tests 240 ctest --test-dir "$build" -L pocl --output-on-failure
+# The kernel and engine groups' suites, read from the lane list ("*Suite.*": parameterised suites carry a prefix);
+# CLRADIOSITY_DEVICE points the tests at DEVICE.
+suites=$(awk '/^set\(CLR_(KERNEL|ENGINE)_SUITES/ {on = 1} on {print; if (/\)/) on = 0}' "$root/tests/runtimes/lanes.cmake" |
+  sed 's/set(CLR_[A-Z]*_SUITES//; s/)//')
+filter=$(printf '*%s.*:' $suites)
+step tests 240 "$tests" --gtest_filter="${filter%:}" --gtest_brief=1
 
 step bench_nn 90 "$bench" --quick ${device:+--device "$device"}
 
@@ -87,6 +93,10 @@ if [ -d "$run_dir" ]; then
 else
   reasons+=("no run directory to render")
 fi
+
+# Where a step's time goes on the device: its own figures, in the log (not judged).
+step bench_guide 90 "$build/bench/bench_guide" "$root/scenes/cornell-box.xml" 3
+step bench_pipeline 90 "$build/bench/bench_pipeline" "$root/scenes/cornell-box.xml" 3 20
 
 verdict=PASS
 [ ${#reasons[@]} -gt 0 ] && verdict=FAIL

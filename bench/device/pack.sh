@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Packs what bench/gpu_acceptance.sh needs into one archive for a machine that has a GPU driver but neither network
+# nor this project's build dependencies (docs/nvidia.md, "On a bare GPU machine"):
+#
+#   bench/device/pack.sh [BUNDLE]     (default out/device/bundle.tar.xz)
+#
+# The archive holds the acceptance binaries of BUILD_DIR (default build/ci), stripped, in the build tree's layout,
+# every shared library they load except the C runtime's (Embree, OpenEXR, CLBlast, the ICD loader, ...: Debian 12's),
+# and the source folder the binaries were built in (they read scenes through that compiled-in path).
+# bench/device/run.sh unpacks it there. Needs the binaries built (cmake --workflow --preset ci).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+build=${BUILD_DIR:-$root/build/ci}
+bundle=${1:-$root/out/device/bundle.tar.xz}
+binaries=(clradiosity tests/clr_tests bench/bench_nn bench/bench_guide bench/bench_pipeline)
+stage=$(mktemp -d)
+trap 'rm -rf "$stage"' EXIT
+mkdir -p "$stage/build" "$stage/lib"
+for b in "${binaries[@]}"; do
+  [ -x "$build/$b" ] || { echo "pack: $build/$b is missing (cmake --workflow --preset ci builds it)" >&2; exit 2; }
+  mkdir -p "$stage/build/$(dirname "$b")"
+  strip -o "$stage/build/$b" "$build/$b"
+done
+# Libraries by the loader's own resolution; the C runtime (libc, libm, libstdc++, ...) is the target's, which is
+# newer than Debian 12's on the machines seen so far (Ubuntu 24.04).
+for b in "${binaries[@]}"; do ldd "$build/$b"; done | awk '/=> \// {print $3}' | sort -u | while read -r lib; do
+  case $(basename "$lib") in
+    libc.so* | libm.so* | libpthread.so* | libdl.so* | librt.so* | ld-linux* | libstdc++.so* | libgcc_s.so*) ;;
+    *) cp -L "$lib" "$stage/lib/" ;;
+  esac
+done
+echo "$root" >"$stage/source_dir"
+mkdir -p "$(dirname "$bundle")"
+tar -C "$stage" -cf - build lib source_dir | xz -T0 -3 >"$bundle.tmp"
+mv "$bundle.tmp" "$bundle"
+echo "$bundle: $(du -h "$bundle" | cut -f1)"

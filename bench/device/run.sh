@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# On a bare GPU machine (a driver, no network, no build dependencies), from the repository root, with the archive
+# of bench/device/pack.sh: unpacks it, registers the NVIDIA OpenCL driver with the packed ICD loader, and runs
+# bench/gpu_acceptance.sh on the GPU (docs/nvidia.md):
+#
+#   bench/device/run.sh BUNDLE OUT_DIR [DEVICE]     (DEVICE default nvidia)
+set -uo pipefail
+[ $# -ge 2 ] || { echo "usage: bench/device/run.sh BUNDLE OUT_DIR [DEVICE]" >&2; exit 2; }
+bundle=$1 out=$2 device=${3:-nvidia}
+root=$(cd "$(dirname "$0")/../.." && pwd)
+unpacked=$(mktemp -d)
+trap 'rm -rf "$unpacked"' EXIT
+tar -C "$unpacked" -xJf "$bundle" || { echo "run: cannot unpack $bundle" >&2; exit 2; }
+# The binaries read scenes through the source folder they were built in: point that path at this checkout.
+source_dir=$(cat "$unpacked/source_dir")
+if [ ! -e "$source_dir" ]; then
+  mkdir -p "$(dirname "$source_dir")" && ln -s "$root" "$source_dir"
+fi
+# The driver's OpenCL library, where NVIDIA's container images mount it or a distribution installs it.
+icd=""
+for dir in /usr/local/nvidia/lib64 /usr/lib/x86_64-linux-gnu /usr/lib64 /usr/local/nvidia/lib; do
+  [ -e "$dir/libnvidia-opencl.so.1" ] && { icd=$dir/libnvidia-opencl.so.1; break; }
+done
+# The packed loader reads OCL_ICD_VENDORS: the system's registrations (a driver that fails to load is skipped) and
+# NVIDIA's, which its container images do not register.
+mkdir -p "$unpacked/vendors"
+cp /etc/OpenCL/vendors/*.icd "$unpacked/vendors/" 2>/dev/null
+[ -n "$icd" ] && echo "$icd" >"$unpacked/vendors/nvidia.icd"
+export OCL_ICD_VENDORS=$unpacked/vendors
+export LD_LIBRARY_PATH=$unpacked/lib${icd:+:$(dirname "$icd")}${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
+echo "NVIDIA OpenCL driver: ${icd:-not found}"
+BUILD_DIR=$unpacked/build "$root/bench/gpu_acceptance.sh" "$device" "$out"
