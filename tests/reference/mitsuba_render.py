@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Renders a scene with Mitsuba 3 (scalar_rgb), the independent peer of mitsuba_peer_slow_test.cpp.
 
-Usage: mitsuba_render.py SCENE.xml WIDTH HEIGHT SPP MAX_DEPTH OUT.exr
+Usage: mitsuba_render.py SCENE.xml WIDTH HEIGHT SPP MAX_DEPTH OUT.exr [SEED]
 
 The scene file is used unchanged: Mitsuba's own `path` integrator (with MAX_DEPTH) replaces whatever the file names
 (the shared scenes name integrators Mitsuba does not ship), and the camera is re-created at the requested size with
@@ -16,6 +16,7 @@ import mitsuba as mi
 
 mi.set_variant("scalar_rgb")
 scene_file, width, height, spp, max_depth, out = sys.argv[1:7]
+seed = int(sys.argv[7]) if len(sys.argv) > 7 else 0
 
 def scalar(v):
     return float(v[0]) if hasattr(v, "__len__") else float(v)
@@ -74,5 +75,5 @@ else:
                      "focus_distance": scalar(camera["focus_distance"])})
 sensor = mi.load_dict(spec)
 integrator = mi.load_dict({"type": "path", "max_depth": int(max_depth)})
-image = mi.render(scene, sensor=sensor, integrator=integrator, spp=int(spp))
+image = mi.render(scene, sensor=sensor, integrator=integrator, spp=int(spp), seed=seed)
 mi.Bitmap(image).write(out)

@@ -53,7 +53,7 @@ TEST_P(TungstenScene, AgreesWithinNoise) {
   std::cout << c.scene << " " << c.width << "x" << c.height << ", " << c.spp << " spp, "
             << stats_a.seconds + stats_b.seconds << " s: " << ag << "; own noise: mean " << 100 * noise.mean
             << " %, median block " << 100 * noise.median_block << " %\n";
-  // 3× the measured mean noise (itself a one-sample estimate) and 2× the block noise's median on top of the bounds.
+  // 3 standard deviations of the mean (our noise; Tungsten's render is converged) and 2 of the median block.
   EXPECT_LT(ag.worst_mean_error, 0.01 + c.renderer_difference + 3 * noise.mean) << ag;
   EXPECT_LT(ag.median_block_error, 0.02 + 2 * noise.median_block) << ag;
 }
