@@ -194,6 +194,9 @@ TEST_F(SdfGrid, PluginMeshesInTheUnitCubeUnderToWorld) {
   const double area = 4 * M_PI * 0.25 * 0.25, shrink = grid_shrinkage(0.25 * 23);
   EXPECT_NEAR(s.shapes[0].mesh.area(), area, 3 * shrink * area);
   EXPECT_NEAR(s.shapes[1].mesh.area(), 16 * area, 16 * 3 * shrink * area);
+  // Mitsuba's sdfgrid has no texture coordinates: uv (0, 0), not a mesh's barycentric default.
+  ASSERT_EQ(s.shapes[0].mesh.uvs.size(), s.shapes[0].mesh.positions.size());
+  for (const auto& uv : s.shapes[0].mesh.uvs) EXPECT_EQ(uv, scene::Vec2(0.0f));
   // Pointwise up to three times the mean shrinkage: at a cell's centre all three axes interpolate.
   for (const auto& p : s.shapes[1].mesh.positions) EXPECT_NEAR(glm::length(p - Vec3(2.0f)), 1.0f, 3 * shrink);
 }

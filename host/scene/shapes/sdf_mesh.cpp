@@ -128,6 +128,9 @@ class Mesher {
     const Vec3 p = glm::mix(pa, pb, t);
     mesh_.positions.push_back(p / f_.scale());
     mesh_.normals.push_back(normal(p));
+    // Mitsuba's sdfgrid has no texture coordinates: uv = (0, 0) everywhere (a mesh without any would get
+    // barycentric ones).
+    mesh_.uvs.emplace_back(0.0f);
     return it->second;
   }
 
