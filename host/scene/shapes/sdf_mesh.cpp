@@ -34,12 +34,21 @@ class Mesher {
   }
 
  private:
-  // The interpolant in a cell lies between its corners' extremes, so a cell whose corners share a side holds no
-  // surface (a value of 0 counts as outside, as at every lattice point).
-  bool crosses(const glm::ivec3& c) const {
+  // A cube's corners, indexed x + 2y + 4z from its lowest one.
+  static glm::ivec3 corner(int i) { return glm::ivec3(i & 1, i >> 1 & 1, i >> 2); }
+
+  // Whether a cube's corners lie on both sides (a value of 0 counts as outside, as at every lattice point). A cell
+  // whose corners do not holds no surface: its interpolant lies between their extremes; a lattice cube's
+  // tetrahedra see nothing but its corners.
+  static bool crosses(const float (&corners)[8]) {
     bool inside = false, outside = false;
-    for (int i = 0; i < 8; ++i) (value(k_ * (c + glm::ivec3(i & 1, i >> 1 & 1, i >> 2))) < 0 ? inside : outside) = true;
+    for (const float v : corners) (v < 0 ? inside : outside) = true;
     return inside && outside;
+  }
+  bool crosses(const glm::ivec3& cell) const {
+    float corners[8];
+    for (int i = 0; i < 8; ++i) corners[i] = value(k_ * (cell + corner(i)));
+    return crosses(corners);
   }
 
   // The interpolant at a lattice point, computed the same way from whichever cube asks, so that neighbouring cubes
@@ -51,24 +60,27 @@ class Mesher {
       for (int y = 0; y < k_; ++y)
         for (int x = 0; x < k_; ++x) {
           const glm::ivec3 q0 = k_ * cell + glm::ivec3(x, y, z);
+          float corners[8];
+          for (int i = 0; i < 8; ++i) corners[i] = value(q0 + corner(i));
+          if (!crosses(corners)) continue;
           // The six tetrahedra: from q0, step along the axes in each of their orders to q0 + (1,1,1).
           constexpr int kOrders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
           for (const auto& order : kOrders) {
-            glm::ivec3 tet[4] = {q0, q0, q0, q0};
-            for (int s = 0; s < 3; ++s)
-              for (int v = s + 1; v < 4; ++v) tet[v][order[s]] += 1;
-            mesh_tetrahedron(tet, cell);
+            const int tet[4] = {0, 1 << order[0], (1 << order[0]) | (1 << order[1]), 7};  // corner indices
+            glm::ivec3 q[4];
+            float fv[4];
+            for (int v = 0; v < 4; ++v) {
+              q[v] = q0 + corner(tet[v]);
+              fv[v] = corners[tet[v]];
+            }
+            mesh_tetrahedron(q, fv, cell);
           }
         }
   }
 
-  void mesh_tetrahedron(const glm::ivec3 (&tet)[4], const glm::ivec3& cell) {
-    float fv[4];
+  void mesh_tetrahedron(const glm::ivec3 (&tet)[4], const float (&fv)[4], const glm::ivec3& cell) {
     int in[4], out[4], n_in = 0, n_out = 0;
-    for (int i = 0; i < 4; ++i) {
-      fv[i] = value(tet[i]);
-      (fv[i] < 0 ? in[n_in++] : out[n_out++]) = i;
-    }
+    for (int i = 0; i < 4; ++i) (fv[i] < 0 ? in[n_in++] : out[n_out++]) = i;
     if (n_in == 0 || n_out == 0) return;
     // Outward: from the inside corners towards the outside ones; each triangle is wound to face that way.
     Vec3 outward(0.0f);
