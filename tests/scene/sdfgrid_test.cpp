@@ -211,6 +211,7 @@ TEST_F(SdfGrid, PluginRefusesByName) {
       {R"(<string name="filename" value="outside.vol"/>)", "no zero crossing"},
       {R"(<string name="filename" value="plane.vol"/><string name="normals" value="flat"/>)", "unknown normals 'flat'"},
       {R"(<string name="filename" value="missing.vol"/>)", "missing.vol"},
+      {R"(<string name="filename" value="plane.vol"/><emitter type="area"/>)", "cannot be an area emitter"},
   };
   for (const auto& [props, fragment] : bad) {
     try {
