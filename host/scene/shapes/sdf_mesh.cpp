@@ -1,13 +1,13 @@
 // An sdfgrid's surface as triangles: marching tetrahedra on a lattice that splits each grid cell `subdivision`
 // times per axis. The lattice contains the cells' faces, where the trilinear interpolant is only continuous, so
-// every tetrahedron lies in one cell, where the interpolant is smooth; each is split into six tetrahedra around the
-// diagonal from its lowest to its highest corner (Freudenthal's triangulation, the same in every cube, so faces
-// meet without cracks). A vertex is placed on a tetrahedron edge at the interpolant's root (bisection), so every
-// vertex lies on Mitsuba's surface and the mesh departs from it only between vertices, by the chord error of a
-// lattice step. Measured on a torus like the corpus scene's (sdfgrid_test): at the 4 splits used, the triangles'
-// centroids lie within 0.004 of a cell of the surface (1e-4 of its 40-sample grid's extent; 1/2000 of a pixel in
-// that scene at 48 px), against 0.043 unsplit; the grid's own sampling error (the interpolant of a distance
-// overestimates it between samples by ~1 cell² / 8 × radius of curvature) is larger, and Mitsuba's as much as ours.
+// every lattice cube lies in one cell, where the interpolant is smooth. Each cube is split into six tetrahedra
+// around the diagonal from its lowest to its highest corner (Freudenthal's triangulation, the same in every cube,
+// so faces meet without cracks). A vertex is placed on a tetrahedron edge at the interpolant's root (bisection), so
+// every vertex lies on Mitsuba's surface and the mesh departs from it only between vertices, by the chord error of
+// a lattice step. Measured on a torus like the corpus scene's (sdfgrid_test): at the 4 splits used, the triangles'
+// centroids lie within 0.004 of a cell of the surface (1e-4 of its 40-sample grid's extent), against 0.043
+// unsplit; the grid's own sampling error (the interpolant of a distance overestimates it between samples by about
+// 1 cell² / 8 × the radius of curvature) is larger, and Mitsuba's as much as ours.
 #include <unordered_map>
 
 #include "common/error.hpp"
