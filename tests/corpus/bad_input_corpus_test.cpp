@@ -141,6 +141,15 @@ std::string serialized_shape(std::uint64_t vertices, std::uint64_t triangles) {
   return zlib(raw);
 }
 
+// Mitsuba's .vol grid: "VOL", version 3, then int32 encoding, resolution and channels, a bounding box, the values.
+std::string vol(std::int32_t encoding, std::int32_t xres, std::int32_t channels, const std::vector<float>& values) {
+  std::string f = "VOL\x03";
+  for (const std::int32_t v : {encoding, xres, 2, 2, channels}) put(f, v);
+  for (int i = 0; i < 6; ++i) put(f, 0.0f);
+  for (const float v : values) put(f, v);
+  return f;
+}
+
 struct Case {
   std::string name;
   std::string args;  // {c} the corpus folder, {t} this run's generated files, {box} the bundled Cornell box
@@ -240,6 +249,15 @@ const std::vector<Case>& cases() {
       generated_case("shape_table.serialized.xml", "more than its size can index"),
       generated_case("bad_zlib.serialized.xml", "corrupt compressed data"),
       generated_case("counts.serialized.xml", "more than its 64 bytes of data hold"),
+      // .vol (sdfgrid)
+      generated_case("garbage.vol.xml", "no 'VOL' magic"),
+      generated_case("encoding.vol.xml", "unsupported .vol encoding 2"),
+      generated_case("zero_resolution.vol.xml", "resolution 0 along x"),
+      generated_case("huge_resolution.vol.xml", "resolution 2000000000 along x"),
+      generated_case("truncated.vol.xml", "more than the file's 28 bytes of data hold"),
+      generated_case("channels.vol.xml", "3 channels, but an SDF grid has 1"),
+      generated_case("nan.vol.xml", "value 3 is not finite"),
+      generated_case("no_surface.vol.xml", "no zero crossing"),
       // textures and environment maps
       generated_case("garbage.png.xml", "cannot read image"),
       generated_case("huge.png.xml", "exceeds the limit"),
@@ -399,6 +417,24 @@ void generate(const fs::path& t) {
   write(t / "counts.serialized", serialized(serialized_shape(1ull << 31, 1ull << 31), 1));
   for (const char* f : {"garbage.serialized", "shape_table.serialized", "bad_zlib.serialized", "counts.serialized"})
     write(t / (std::string(f) + ".xml"), mesh_scene("serialized", t / f));
+
+  // .vol (sdfgrid)
+  {
+    const std::vector<float> crossing = {-1, 1, -1, 1, -1, 1, -1, 1};
+    std::vector<float> nan = crossing;
+    nan[3] = std::numeric_limits<float>::quiet_NaN();
+    write(t / "garbage.vol", random_bytes(4096, 8));
+    write(t / "encoding.vol", vol(2, 2, 1, crossing));
+    write(t / "zero_resolution.vol", vol(1, 0, 1, {}));
+    write(t / "huge_resolution.vol", vol(1, 2000000000, 1, crossing));
+    write(t / "truncated.vol", vol(1, 2, 1, std::vector<float>(7, 0.0f)));
+    write(t / "channels.vol", vol(1, 2, 3, std::vector<float>(24, -1.0f)));
+    write(t / "nan.vol", vol(1, 2, 1, nan));
+    write(t / "no_surface.vol", vol(1, 2, 1, std::vector<float>(8, 1.0f)));
+    for (const char* f : {"garbage.vol", "encoding.vol", "zero_resolution.vol", "huge_resolution.vol", "truncated.vol",
+                          "channels.vol", "nan.vol", "no_surface.vol"})
+      write(t / (std::string(f) + ".xml"), mesh_scene("sdfgrid", t / f));
+  }
 
   // Images.
   write(t / "garbage.png", std::string("\x89PNG\r\n\x1a\n", 8) + random_bytes(512, 6));

@@ -33,7 +33,6 @@ const std::map<std::string, std::string> kRefused = {
     // Not supported yet.
     {"mitsuba-data--test_mesh_attributes_1_face_direct", "unsupported texture type 'mesh_attribute'"},
     {"mitsuba-data--test_mesh_attributes_3_face_direct", "unsupported texture type 'mesh_attribute'"},
-    {"mitsuba-data--test_various_shapes_path", "unsupported shape type 'sdfgrid'"},
 };
 
 struct CorpusScene {

@@ -393,6 +393,10 @@ class Loader final : public loader::Context {
     for (const auto& [name, o] : p.named)
       if (o.tag() == "ref") reference(*p.find(name));
     p.check_all_used();
+    // Mitsuba documents that an sdfgrid cannot emit: it loads one but samples no point on it (its surface area is
+    // 0), so light sampling never finds it. Our mesh could emit, but would render a different image: refused.
+    if (s.is_emitter() && type == "sdfgrid")
+      n.fail("an sdfgrid cannot be an area emitter (Mitsuba samples no point on it)");
     // A null BSDF makes the surface vanish for every ray, its emission with it, while light sampling would still
     // find the emitter: the two would disagree.
     if (s.is_emitter() && b && dynamic_cast<const NullBsdf*>(b.get()))

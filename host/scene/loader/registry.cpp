@@ -41,7 +41,8 @@ namespace clr::scene::loader {
   X("cube", read_cube)             \
   X("disk", read_disk)             \
   X("sphere", read_sphere)         \
-  X("cylinder", read_cylinder)
+  X("cylinder", read_cylinder)     \
+  X("sdfgrid", read_sdfgrid)
 
 #define CLR_EMITTER_PLUGINS(X)       \
   X("area", read_area)               \
