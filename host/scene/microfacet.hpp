@@ -3,6 +3,7 @@
 // frame's x, alpha_v along its y), with the separable Smith shadowing term. Normals are sampled from D(m)·cos θm
 // by stretching the slopes of the unit-roughness distribution (Heitz 2014), so pdf_m(m) = D(m)·cos θm for both.
 #include <cmath>
+#include <optional>
 
 #include "scene/frame.hpp"
 
@@ -65,6 +66,21 @@ inline Vec3 half_vector(const Vec3& wo, const Vec3& wi, float eta) {
   if (!(len > 0)) return Vec3(0.0f);
   m /= len;
   return m.z < 0 ? -m : m;
+}
+
+// A glossy lobe beside a diffuse one (plastic, pplastic, ward): with probability ps a microfacet normal from `mf`
+// reflects wo, else a cosine-weighted direction. The mixture's density, and a direction drawn from it (nullopt
+// below the surface); both for wo above it.
+inline float glossy_diffuse_pdf(const Microfacet& mf, float ps, const Vec3& wo, const Vec3& wi) {
+  if (wo.z <= 0 || wi.z <= 0) return 0.0f;
+  const Vec3 m = glm::normalize(wo + wi);
+  return ps * mf.pdf_m(m) / (4.0f * glm::dot(wo, m)) + (1.0f - ps) * cosine_hemisphere_pdf(wi.z);
+}
+inline std::optional<Vec3> sample_glossy_diffuse(const Microfacet& mf, float ps, const Vec3& wo, float u_lobe,
+                                                 const Vec2& u) {
+  const Vec3 wi = u_lobe < ps ? reflect(wo, mf.sample_m(u)) : sample_cosine_hemisphere(u);
+  if (wi.z <= 0) return std::nullopt;
+  return wi;
 }
 
 }  // namespace clr::scene

@@ -100,24 +100,23 @@ Rgb Plastic::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
 float Plastic::pdf(const Vec2&, const Vec3& wo, const Vec3& wi) const {
   if (wo.z <= 0 || wi.z <= 0) return 0.0f;
   const float ps = specular_probability(wo.z);
-  float p = (1.0f - ps) * cosine_hemisphere_pdf(wi.z);
-  if (mf_) {
-    const Vec3 m = glm::normalize(wo + wi);
-    p += ps * mf_->pdf_m(m) / (4.0f * glm::dot(wo, m));
-  }
-  return p;
+  // Smooth: the specular lobe is a delta, so only the diffuse share has a density.
+  return mf_ ? glossy_diffuse_pdf(*mf_, ps, wo, wi) : (1.0f - ps) * cosine_hemisphere_pdf(wi.z);
 }
 
 std::optional<BsdfSample> Plastic::sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const {
   if (wo.z <= 0) return std::nullopt;
   const float ps = specular_probability(wo.z);
-  if (!mf_ && u_lobe < ps) {
+  if (mf_) {
+    const auto wi = sample_glossy_diffuse(*mf_, ps, wo, u_lobe, u);
+    return wi ? continuous_sample(uv, wo, *wi) : std::nullopt;
+  }
+  if (u_lobe < ps) {
     const float f = fresnel_dielectric(wo.z, eta_).reflectance;
     return BsdfSample{reflect_z(wo), specular_.eval(uv) * (f / ps), ps, true};
   }
-  const Vec3 wi = u_lobe < ps ? reflect(wo, mf_->sample_m(u)) : sample_cosine_hemisphere(u);
-  if (wi.z <= 0) return std::nullopt;
-  return continuous_sample(uv, wo, wi);
+  const Vec3 wi = sample_cosine_hemisphere(u);
+  return wi.z > 0 ? continuous_sample(uv, wo, wi) : std::nullopt;
 }
 
 }  // namespace clr::scene

@@ -37,17 +37,13 @@ Rgb Ward::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
 }
 
 float Ward::pdf(const Vec2&, const Vec3& wo, const Vec3& wi) const {
-  if (wo.z <= 0 || wi.z <= 0) return 0.0f;
-  const Vec3 h = glm::normalize(wo + wi);
-  const float p_spec = glm::dot(wo, h) > 0 ? mf_.pdf_m(h) / (4 * glm::dot(wo, h)) : 0.0f;
-  return specular_probability_ * p_spec + (1 - specular_probability_) * cosine_hemisphere_pdf(wi.z);
+  return glossy_diffuse_pdf(mf_, specular_probability_, wo, wi);
 }
 
 std::optional<BsdfSample> Ward::sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const {
   if (wo.z <= 0) return std::nullopt;
-  const Vec3 wi = u_lobe < specular_probability_ ? reflect(wo, mf_.sample_m(u)) : sample_cosine_hemisphere(u);
-  if (wi.z <= 0) return std::nullopt;
-  return continuous_sample(uv, wo, wi);
+  const auto wi = sample_glossy_diffuse(mf_, specular_probability_, wo, u_lobe, u);
+  return wi ? continuous_sample(uv, wo, *wi) : std::nullopt;
 }
 
 }  // namespace clr::scene
