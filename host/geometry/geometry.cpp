@@ -50,13 +50,8 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
     const std::uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
-    const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
-    Vec2 uv(0.0f);
-    if (!m->mesh->uvs.empty()) {
-      const glm::uvec3 t = m->mesh->triangles[prim];
-      uv = (1 - u - v) * m->mesh->uvs[t.x] + u * m->mesh->uvs[t.y] + v * m->mesh->uvs[t.z];
-    }
-    const Rgb o = m->opacity->eval(uv);
+    const Vec2 b(RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
+    const Rgb o = m->opacity->eval(m->mesh->texture_point(prim, b));
     const float alpha = (o.x + o.y + o.z) / 3.0f;
     const float h = alpha_hash(prim, RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
                                RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),

@@ -6,16 +6,21 @@
 namespace clr::geometry {
 namespace {
 
-// Height of a bump map (its luminance, like Mitsuba's single-channel evaluation of an RGB texture).
-float height(const scene::BumpMap& b, const Vec2& uv) { return scene::luminance(b.height.eval(uv)); }
+// Height of a bump map (its luminance, like Mitsuba's single-channel evaluation of an RGB texture) at `at` moved
+// by `du` in uv.
+float height(const scene::BumpMap& b, scene::TexturePoint at, const Vec2& du = Vec2(0.0f)) {
+  at.uv += du;
+  return scene::luminance(b.height.eval(at));
+}
 
 // Tilts the shading normal by the height field's gradient: the surface becomes p + scale·h(uv)·n, whose tangents
 // are dp/du + scale·(dh/du)·n (the normal's own variation is neglected, as is usual).
-Vec3 bump_normal(const scene::BumpMap& b, const Vec3& n, const Vec3& dpdu, const Vec3& dpdv, const Vec2& uv) {
+Vec3 bump_normal(const scene::BumpMap& b, const Vec3& n, const Vec3& dpdu, const Vec3& dpdv,
+                 const scene::TexturePoint& at) {
   constexpr float kDelta = 1e-3f;  // in uv; below a texel of any texture up to 1000² so the lookups resolve it
-  const float h = height(b, uv);
-  const float dhdu = (height(b, uv + Vec2(kDelta, 0)) - h) / kDelta;
-  const float dhdv = (height(b, uv + Vec2(0, kDelta)) - h) / kDelta;
+  const float h = height(b, at);
+  const float dhdu = (height(b, at, Vec2(kDelta, 0)) - h) / kDelta;
+  const float dhdv = (height(b, at, Vec2(0, kDelta)) - h) / kDelta;
   const Vec3 tu = dpdu + b.scale * dhdu * n, tv = dpdv + b.scale * dhdv * n;
   Vec3 bumped = glm::cross(tu, tv);
   const float len = glm::length(bumped);
@@ -57,7 +62,7 @@ SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::
     const float l = glm::length(ns);
     if (l > 0) n = ns / l;
   }
-  if (!m.uvs.empty()) p.uv = b0 * m.uvs[t.x] + b.x * m.uvs[t.y] + b.y * m.uvs[t.z];
+  p.at = m.texture_point(prim, b);
   const scene::Bsdf& bsdf = scene.bsdf(s);
   const auto* bump = bsdf.bump();
   const auto* normal_map = bsdf.normal_map();
@@ -78,7 +83,7 @@ SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::
       have_uv = true;
     }
   }
-  if (bump && have_uv) n = bump_normal(*bump, n, dpdu, dpdv, p.uv);
+  if (bump && have_uv) n = bump_normal(*bump, n, dpdu, dpdv, p.at);
   // The shading frame Mitsuba uses for normal maps and anisotropic lobes: s = dp/du made orthogonal to n.
   auto tangent_frame = [&](const Vec3& normal) {
     const Vec3 s_raw = dpdu - normal * glm::dot(normal, dpdu);
@@ -92,7 +97,7 @@ SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::
   };
   if (normal_map) {
     // Mitsuba: n' = the texture's raw RGB mapped from [0, 1] to [-1, 1], in the tangent frame of the shading normal.
-    const Vec3 local = 2.0f * normal_map->eval(p.uv) - 1.0f;
+    const Vec3 local = 2.0f * normal_map->eval(p.at) - 1.0f;
     const float l = glm::length(local);
     if (l > 0) n = glm::normalize(tangent_frame(n).to_world(local / l));
   }
@@ -103,7 +108,7 @@ SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::
 Rgb emitted(const scene::Scene& scene, const SurfacePoint& p, const Vec3& wo) {
   const scene::Shape& s = scene.shapes[p.shape];
   if (!s.is_emitter() || glm::dot(p.frame.n, wo) <= 0) return Rgb(0.0f);
-  return s.radiance_texture ? s.radiance_texture->eval(p.uv) : s.radiance;
+  return s.radiance_texture ? s.radiance_texture->eval(p.at) : s.radiance;
 }
 
 }  // namespace clr::geometry

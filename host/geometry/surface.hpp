@@ -1,6 +1,7 @@
 #pragma once
 // A point on a scene's surface, found by a ray or drawn by area: position, normals, shading frame (bump-mapped
-// where the BSDF asks for it) and uv. Independent of Embree, so the trainer and the tests can build one directly.
+// where the BSDF asks for it) and where textures are looked up. Independent of Embree, so the trainer and the tests can
+// build one directly.
 #include <cstdint>
 
 #include "scene/scene.hpp"
@@ -13,9 +14,9 @@ using scene::Vec3;
 
 struct SurfacePoint {
   Vec3 position;
-  Vec3 geometric_normal;  // unit, from the triangle's winding
-  scene::Frame frame;     // shading frame: z = interpolated (and possibly bump-mapped) normal
-  Vec2 uv;
+  Vec3 geometric_normal;   // unit, from the triangle's winding
+  scene::Frame frame;      // shading frame: z = interpolated (and possibly bump-mapped) normal
+  scene::TexturePoint at;  // uv, and the triangle and barycentrics for mesh attributes
   std::uint32_t shape = 0, prim = 0;
   // The largest |coordinate| of the triangle's vertices: the position and Embree's hits carry float error relative
   // to it. 0 where unknown (a point built by hand).
@@ -26,7 +27,7 @@ struct SurfacePoint {
   // one, so that a scene scaled by any factor is offset alike (tests/radiosity/extremes_test.cpp).
   Vec3 spawn_origin(const Vec3& dir) const;
   // The BSDF at this point in world space (BsdfPoint converts directions to the shading frame).
-  scene::BsdfPoint bsdf(const scene::Scene& s) const { return {&s.bsdf(s.shapes[shape]), frame, uv}; }
+  scene::BsdfPoint bsdf(const scene::Scene& s) const { return {&s.bsdf(s.shapes[shape]), frame, at}; }
 };
 
 // Interpolates triangle `prim` of shape `shape` at barycentrics (b1, b2) (weights of vertices 1 and 2).

@@ -42,7 +42,7 @@ void SurfaceSampler::sample(std::uint64_t seed, std::span<SurfaceSample> out, st
       const SurfacePoint p = surface_point(*scene_, shape_[k], prim_[k], Vec2(su * (1.0f - v), su * v));
       const auto& shape = scene_->shapes[p.shape];
       const scene::Bsdf& bsdf = scene_->bsdf(shape);
-      out[i] = {p, bsdf.albedo(p.uv), bsdf.roughness(), std::uint32_t(shape.material)};
+      out[i] = {p, bsdf.albedo(p.at), bsdf.roughness(), std::uint32_t(shape.material)};
     }
   });
 }

@@ -4,7 +4,7 @@ namespace clr::radiosity {
 
 void write_raw_row(const scene::Scene& scene, const geometry::SurfacePoint& p, const Vec3& wo, float* row) {
   const scene::Bsdf& bsdf = scene.bsdf(scene.shapes[p.shape]);
-  const Rgb albedo = bsdf.albedo(p.uv);
+  const Rgb albedo = bsdf.albedo(p.at);
   const Vec3 values[4] = {p.position, wo, p.frame.n, albedo};
   for (int v = 0; v < 4; ++v)
     for (int c = 0; c < 3; ++c) row[3 * v + c] = values[v][c];

@@ -1,7 +1,8 @@
 #pragma once
 // Scattering at a surface point, in the local shading frame (z = shading normal), the interface both the reference
 // path tracer and the Neural Radiosity trainer use. Directions point away from the surface: `wo` towards the
-// viewer (the previous path vertex), `wi` towards the light. Texture lookups take the surface uv.
+// viewer (the previous path vertex), `wi` towards the light. Texture lookups take the surface point `at` (its uv,
+// and for mesh attributes its triangle and barycentrics).
 //
 // eval returns f(wo, wi)·|cos θi| of the non-delta lobes; pdf the solid-angle density with which sample() draws wi
 // (lobe-selection probability included); sample() returns the throughput weight f·|cos θi|/pdf. Delta lobes
@@ -31,13 +32,14 @@ struct BumpMap {
 class Bsdf {
  public:
   virtual ~Bsdf() = default;
-  virtual Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const = 0;
-  virtual float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const = 0;
+  virtual Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const = 0;
+  virtual float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const = 0;
   // `u_lobe` chooses among lobes (reflect/refract, specular/diffuse), `u` draws the direction. nullopt: absorbed.
-  virtual std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const = 0;
+  virtual std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe,
+                                           const Vec2& u) const = 0;
   // What a network sees as the surface colour: the reflectance a unit white light would produce at normal
   // incidence (diffuse albedo, conductor F0 tint, plastic substrate).
-  virtual Rgb albedo(const Vec2& uv) const = 0;
+  virtual Rgb albedo(const TexturePoint& at) const = 0;
   // 1 for Lambertian, the microfacet alpha for glossy lobes, 0 for purely specular.
   virtual float roughness() const = 0;
   // False for purely specular materials: no light sampling there, no training points (docs/design.md §2).
@@ -57,28 +59,29 @@ class Bsdf {
  protected:
   // A continuous sample at `wi` drawn with this BSDF's own density (pdf() over all its lobes, as multi-lobe BSDFs
   // sample: one lobe picked, the density the mixture's): weight f·cos / p; nullopt where the density vanishes.
-  std::optional<BsdfSample> continuous_sample(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
-    const float p = pdf(uv, wo, wi);
+  std::optional<BsdfSample> continuous_sample(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
+    const float p = pdf(at, wo, wi);
     if (!(p > 0)) return std::nullopt;
-    return BsdfSample{wi, eval(uv, wo, wi) / p, p, false};
+    return BsdfSample{wi, eval(at, wo, wi) / p, p, false};
   }
 };
 
-// Evaluation of a BSDF at a world-space point: the frame it was hit with plus its uv. The trainer's view.
+// Evaluation of a BSDF at a world-space point: the frame it was hit with plus where its textures are looked up. The
+// trainer's view.
 struct BsdfPoint {
   const Bsdf* bsdf;
   Frame frame;
-  Vec2 uv;
+  TexturePoint at;
 
   Rgb eval(const Vec3& wo_world, const Vec3& wi_world) const {
-    return bsdf->eval(uv, frame.to_local(wo_world), frame.to_local(wi_world));
+    return bsdf->eval(at, frame.to_local(wo_world), frame.to_local(wi_world));
   }
   float pdf(const Vec3& wo_world, const Vec3& wi_world) const {
-    return bsdf->pdf(uv, frame.to_local(wo_world), frame.to_local(wi_world));
+    return bsdf->pdf(at, frame.to_local(wo_world), frame.to_local(wi_world));
   }
   // wi in the result is in world space.
   std::optional<BsdfSample> sample(const Vec3& wo_world, float u_lobe, const Vec2& u) const {
-    auto s = bsdf->sample(uv, frame.to_local(wo_world), u_lobe, u);
+    auto s = bsdf->sample(at, frame.to_local(wo_world), u_lobe, u);
     if (s) s->wi = frame.to_world(s->wi);
     return s;
   }

@@ -13,10 +13,10 @@ namespace clr::scene {
 class Diffuse final : public Bsdf {
  public:
   explicit Diffuse(Texture reflectance) : reflectance_(std::move(reflectance)) {}
-  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
-  Rgb albedo(const Vec2& uv) const override { return reflectance_.eval(uv); }
+  Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const TexturePoint& at) const override { return reflectance_.eval(at); }
   float roughness() const override { return 1.0f; }
   bool has_non_delta() const override { return true; }
 
@@ -30,10 +30,10 @@ class RoughDiffuse final : public Bsdf {
  public:
   RoughDiffuse(Texture reflectance, Texture alpha, bool fast)
       : reflectance_(std::move(reflectance)), alpha_(std::move(alpha)), fast_(fast) {}
-  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
-  Rgb albedo(const Vec2& uv) const override { return reflectance_.eval(uv); }
+  Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const TexturePoint& at) const override { return reflectance_.eval(at); }
   float roughness() const override { return 1.0f; }
   bool has_non_delta() const override { return true; }
 
@@ -60,10 +60,10 @@ class Principled final : public Bsdf {
     float specular_rate = 1, clearcoat_rate = 1, diffuse_rate = 1;
   };
   explicit Principled(Params params);
-  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
-  Rgb albedo(const Vec2& uv) const override { return p_.base_color.eval(uv); }
+  Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const TexturePoint& at) const override { return p_.base_color.eval(at); }
   float roughness() const override { return spec_.mean_alpha(); }
   bool has_non_delta() const override { return true; }
   bool anisotropic() const override { return spec_.anisotropic(); }
@@ -96,10 +96,10 @@ class PrincipledThin final : public Bsdf {
     float specular_reflect_rate = 1, specular_trans_rate = 1, diffuse_reflect_rate = 1, diffuse_trans_rate = 1;
   };
   explicit PrincipledThin(Params params);
-  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
-  Rgb albedo(const Vec2& uv) const override { return p_.base_color.eval(uv); }
+  Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const TexturePoint& at) const override { return p_.base_color.eval(at); }
   float roughness() const override { return reflect_.mean_alpha(); }
   bool has_non_delta() const override { return true; }
   bool two_sided() const override { return true; }
@@ -118,10 +118,10 @@ class PrincipledThin final : public Bsdf {
 class Phong final : public Bsdf {
  public:
   Phong(Texture diffuse, Texture specular, float exponent);
-  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
-  Rgb albedo(const Vec2& uv) const override { return diffuse_.eval(uv); }
+  Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const TexturePoint& at) const override { return diffuse_.eval(at); }
   // The Phong lobe's width matched to a Beckmann alpha (n = 2/α² − 2).
   float roughness() const override { return std::sqrt(2.0f / (exponent_ + 2.0f)); }
   bool has_non_delta() const override { return true; }
@@ -138,10 +138,10 @@ class Ward final : public Bsdf {
  public:
   enum class Variant { ward, ward_duer, balanced };
   Ward(Variant variant, Texture diffuse, Texture specular, float alpha_u, float alpha_v);
-  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
-  Rgb albedo(const Vec2& uv) const override { return diffuse_.eval(uv); }
+  Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const TexturePoint& at) const override { return diffuse_.eval(at); }
   float roughness() const override { return mf_.mean_alpha(); }
   bool has_non_delta() const override { return true; }
   bool anisotropic() const override { return mf_.anisotropic(); }
@@ -163,16 +163,16 @@ class Conductor final : public Bsdf {
   Conductor(Rgb eta, Rgb k, Texture specular, std::optional<Microfacet> microfacet,
             std::optional<RoughnessTextures> textured = std::nullopt)
       : eta_(eta), k_(k), specular_(std::move(specular)), mf_(microfacet), textured_(std::move(textured)) {}
-  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
-  Rgb albedo(const Vec2& uv) const override;
+  Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const TexturePoint& at) const override;
   float roughness() const override { return mf_ ? mf_->mean_alpha() : 0.0f; }
   bool has_non_delta() const override { return mf_.has_value(); }
   bool anisotropic() const override { return mf_ && (mf_->anisotropic() || textured_); }
 
  private:
-  Microfacet microfacet(const Vec2& uv) const;
+  Microfacet microfacet(const TexturePoint& at) const;
   Rgb eta_, k_;
   Texture specular_;
   std::optional<Microfacet> mf_;
@@ -185,17 +185,17 @@ class Conductor final : public Bsdf {
 class Plastic final : public Bsdf {
  public:
   Plastic(float eta, Texture diffuse, Texture specular, bool nonlinear, std::optional<Microfacet> microfacet);
-  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
-  Rgb albedo(const Vec2& uv) const override { return diffuse_.eval(uv); }
+  Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const TexturePoint& at) const override { return diffuse_.eval(at); }
   float roughness() const override { return mf_ ? mf_->mean_alpha() : 0.0f; }
   bool has_non_delta() const override { return true; }
 
  private:
   float transmittance(float cos_theta) const;  // of the coating, from outside
   float specular_probability(float cos_o) const;
-  Rgb diffuse_term(const Vec2& uv, const Vec3& wo, const Vec3& wi) const;
+  Rgb diffuse_term(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const;
 
   float eta_;
   Texture diffuse_, specular_;
@@ -212,10 +212,10 @@ class Plastic final : public Bsdf {
 class PolarizedPlastic final : public Bsdf {
  public:
   PolarizedPlastic(float eta, Texture diffuse, std::optional<Texture> specular, Microfacet microfacet);
-  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
-  Rgb albedo(const Vec2& uv) const override { return diffuse_.eval(uv); }
+  Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const TexturePoint& at) const override { return diffuse_.eval(at); }
   float roughness() const override { return mf_.mean_alpha(); }
   bool has_non_delta() const override { return true; }
   bool anisotropic() const override { return mf_.anisotropic(); }
@@ -235,17 +235,17 @@ class Dielectric final : public Bsdf {
   enum class Kind { smooth, rough, thin };
   Dielectric(Kind kind, float eta, Texture specular_reflectance, Texture specular_transmittance,
              std::optional<Microfacet> microfacet);
-  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
-  Rgb albedo(const Vec2&) const override { return Rgb(1.0f); }
+  Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const TexturePoint&) const override { return Rgb(1.0f); }
   float roughness() const override { return mf_ ? mf_->mean_alpha() : 0.0f; }
   bool has_non_delta() const override { return kind_ == Kind::rough; }
   bool anisotropic() const override { return mf_ && mf_->anisotropic(); }
   bool two_sided() const override { return true; }
 
  private:
-  std::optional<BsdfSample> sample_rough(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const;
+  std::optional<BsdfSample> sample_rough(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const;
 
   Kind kind_;
   float eta_;
@@ -258,17 +258,17 @@ class BlendBsdf final : public Bsdf {
  public:
   BlendBsdf(Texture weight, std::shared_ptr<const Bsdf> first, std::shared_ptr<const Bsdf> second)
       : weight_(std::move(weight)), a_(std::move(first)), b_(std::move(second)) {}
-  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
-  Rgb albedo(const Vec2& uv) const override;
+  Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb albedo(const TexturePoint& at) const override;
   float roughness() const override;
   bool has_non_delta() const override { return a_->has_non_delta() || b_->has_non_delta(); }
   bool two_sided() const override { return a_->two_sided() || b_->two_sided(); }
   bool anisotropic() const override { return a_->anisotropic() || b_->anisotropic(); }
 
  private:
-  float weight(const Vec2& uv) const { return std::clamp(weight_.eval(uv).x, 0.0f, 1.0f); }
+  float weight(const TexturePoint& at) const { return std::clamp(weight_.eval(at).x, 0.0f, 1.0f); }
   Texture weight_;
   std::shared_ptr<const Bsdf> a_, b_;
 };
@@ -277,10 +277,12 @@ class BlendBsdf final : public Bsdf {
 // the geometry's alpha test, that never scatters.
 class NullBsdf final : public Bsdf {
  public:
-  Rgb eval(const Vec2&, const Vec3&, const Vec3&) const override { return Rgb(0.0f); }
-  float pdf(const Vec2&, const Vec3&, const Vec3&) const override { return 0.0f; }
-  std::optional<BsdfSample> sample(const Vec2&, const Vec3&, float, const Vec2&) const override { return std::nullopt; }
-  Rgb albedo(const Vec2&) const override { return Rgb(0.0f); }
+  Rgb eval(const TexturePoint&, const Vec3&, const Vec3&) const override { return Rgb(0.0f); }
+  float pdf(const TexturePoint&, const Vec3&, const Vec3&) const override { return 0.0f; }
+  std::optional<BsdfSample> sample(const TexturePoint&, const Vec3&, float, const Vec2&) const override {
+    return std::nullopt;
+  }
+  Rgb albedo(const TexturePoint&) const override { return Rgb(0.0f); }
   float roughness() const override { return 0.0f; }
   bool has_non_delta() const override { return false; }
   const Texture* opacity() const override { return &transparent_; }
@@ -293,12 +295,12 @@ class NullBsdf final : public Bsdf {
 class NestedBsdf : public Bsdf {
  public:
   explicit NestedBsdf(std::shared_ptr<const Bsdf> nested) : nested_(std::move(nested)) {}
-  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override { return nested_->eval(uv, wo, wi); }
-  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override { return nested_->pdf(uv, wo, wi); }
-  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override {
-    return nested_->sample(uv, wo, u_lobe, u);
+  Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override { return nested_->eval(at, wo, wi); }
+  float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override { return nested_->pdf(at, wo, wi); }
+  std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override {
+    return nested_->sample(at, wo, u_lobe, u);
   }
-  Rgb albedo(const Vec2& uv) const override { return nested_->albedo(uv); }
+  Rgb albedo(const TexturePoint& at) const override { return nested_->albedo(at); }
   float roughness() const override { return nested_->roughness(); }
   bool has_non_delta() const override { return nested_->has_non_delta(); }
   bool two_sided() const override { return nested_->two_sided(); }
@@ -317,9 +319,9 @@ class TwoSided final : public NestedBsdf {
  public:
   TwoSided(std::shared_ptr<const Bsdf> front, std::shared_ptr<const Bsdf> back)
       : NestedBsdf(std::move(front)), back_(std::move(back)) {}
-  Rgb eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  float pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const override;
-  std::optional<BsdfSample> sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const override;
+  Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
+  std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
   bool has_non_delta() const override { return nested_->has_non_delta() || back_->has_non_delta(); }
   bool two_sided() const override { return true; }
 

@@ -3,17 +3,38 @@
 // area and normals match to well under the renderer's noise; see mesh_primitives.cpp).
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "scene/frame.hpp"
+#include "scene/texture.hpp"
 
 namespace clr::scene {
+
+// Mitsuba's extra per-vertex or per-face data (PLY properties beyond position, normal and uv), read by the
+// `mesh_attribute` texture. The name's prefix says which: "vertex_…" (interpolated over a triangle) or "face_…"
+// (constant over it).
+struct MeshAttribute {
+  std::string name;
+  int channels = 1;           // 1 or 3 as Mitsuba evaluates them; a colour with alpha has 4 and cannot be evaluated
+  std::vector<float> values;  // `channels` per vertex or per triangle
+
+  bool per_face() const { return name.starts_with("face_"); }
+  // The value at barycentrics b of triangle `prim` (vertex indices t), one channel replicated to three.
+  Rgb eval(std::uint32_t prim, const glm::uvec3& t, const Vec2& b) const;
+};
 
 struct Mesh {
   std::vector<Vec3> positions;
   std::vector<Vec3> normals;  // per vertex (shading normals); empty: flat shading with the face normal
   std::vector<Vec2> uvs;      // per vertex; empty: uv = (0, 0)
   std::vector<glm::uvec3> triangles;
+  // Only those a texture of the shape's material names are kept (the loader drops the rest).
+  std::vector<MeshAttribute> attributes;
+
+  const MeshAttribute* attribute(const std::string& name) const;
+  // Where textures are looked up at barycentrics b of triangle `prim`: its interpolated uv and the mesh itself.
+  TexturePoint texture_point(std::uint32_t prim, const Vec2& b) const;
 
   void transform(const glm::mat4& to_world);
   // Reverses the winding and negates the normals (Mitsuba's flip_normals).
@@ -23,13 +44,14 @@ struct Mesh {
   // Mitsuba 0.x's max_smooth_angle: smooth normals only across edges whose faces meet within the angle (degrees);
   // sharper edges stay creases. Every triangle corner becomes its own vertex.
   void compute_crease_normals(float max_angle_degrees);
-  // InputError (prefixed with `what`) for non-finite data, indices out of range, or no triangles.
+  // InputError (prefixed with `what`) for non-finite geometry, indices out of range, attributes of the wrong size,
+  // or no triangles. Attribute values are checked only where a texture reads them (the loader's keep_attributes).
   void validate(const std::string& what) const;
   double area() const;
 };
 
 // File formats; InputError naming the file for anything unreadable. Texture v is flipped (v' = 1 − v) as Mitsuba
-// does, so images appear upright.
+// does, so images appear upright. Only PLY carries attributes (Mitsuba 3 reads none from obj or serialized files).
 Mesh load_obj(const std::filesystem::path& path);
 Mesh load_ply(const std::filesystem::path& path);
 Mesh load_serialized(const std::filesystem::path& path, int shape_index);

@@ -1,8 +1,11 @@
 #pragma once
-// Spatially varying reflectances: a constant, a bitmap or a checkerboard (Mitsuba's `bitmap`, `checkerboard`).
-// A constant costs one branch and no memory beyond its colour, so untextured scenes pay nothing for textures.
+// Spatially varying reflectances: a constant, a bitmap, a checkerboard or a mesh attribute (Mitsuba's `bitmap`,
+// `checkerboard`, `mesh_attribute`). A constant costs one branch and no memory beyond its colour, so untextured
+// scenes pay nothing for textures.
+#include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "scene/frame.hpp"
@@ -32,31 +35,54 @@ struct UvTransform {
   Vec2 apply(const Vec2& uv) const { return linear * uv + offset; }
 };
 
+struct Mesh;
+
+// Where a texture is looked up: the surface's uv and, for mesh attributes, the triangle hit on its mesh and the
+// barycentrics there (Mitsuba's SurfaceInteraction, as much of it as textures read). A bare uv (an emitter's
+// projection, a test) has no mesh.
+struct TexturePoint {
+  Vec2 uv{0.0f};
+  const Mesh* mesh = nullptr;
+  std::uint32_t prim = 0;
+  Vec2 barycentric{0.0f};  // weights of the triangle's vertices 1 and 2
+
+  TexturePoint(const Vec2& at_uv = Vec2(0.0f)) : uv(at_uv) {}  // NOLINT: a uv is a point without a mesh
+  TexturePoint(const Vec2& at_uv, const Mesh& on, std::uint32_t triangle, const Vec2& b)
+      : uv(at_uv), mesh(&on), prim(triangle), barycentric(b) {}
+};
+
 class Texture {
  public:
-  enum class Kind { constant, bitmap, checkerboard };
+  enum class Kind { constant, bitmap, checkerboard, mesh_attribute };
 
   Texture(const Rgb& value = Rgb(0.0f)) : kind_(Kind::constant), c0_(value) {}  // NOLINT: a colour is a texture
   static Texture bitmap(std::shared_ptr<const Bitmap> bitmap, const UvTransform& to_uv, bool bilinear,
                         Bitmap::Wrap wrap = Bitmap::Wrap::repeat);
   static Texture checkerboard(const Rgb& color0, const Rgb& color1, const UvTransform& to_uv);
+  // The mesh's attribute `name` ("vertex_…" interpolated, "face_…" constant per triangle) times `scale`; one
+  // channel is replicated to three. `id` names the texture in messages (its XML id, or where it is written).
+  static Texture mesh_attribute(const std::string& name, float scale, const std::string& id);
 
-  Rgb eval(const Vec2& uv) const {
+  Rgb eval(const TexturePoint& at) const {
     if (kind_ == Kind::constant) return c0_;
-    return eval_varying(uv);
+    return eval_varying(at);
   }
   bool is_constant() const { return kind_ == Kind::constant; }
   Kind kind() const { return kind_; }
   // Average over the texture (exact for constants and checkerboards, texel mean for bitmaps): used where a single
-  // colour is needed, e.g. for lobe-selection weights.
+  // colour is needed, e.g. for lobe-selection weights. A mesh attribute's average depends on the mesh, which a
+  // material shared by shapes does not know: it stands as scale/2, a mid-range value (Mitsuba has no mean for it).
   Rgb mean() const;
+  // A mesh_attribute's attribute name and the texture's id; empty for the other kinds.
+  const std::string& attribute() const { return attribute_; }
+  const std::string& id() const { return id_; }
   // Texels along u and v: a bitmap's size, (1, 1) for the others (Mitsuba's `resolution`).
   glm::ivec2 resolution() const {
     return kind_ == Kind::bitmap ? glm::ivec2(bitmap_->width, bitmap_->height) : glm::ivec2(1);
   }
 
  private:
-  Rgb eval_varying(const Vec2& uv) const;
+  Rgb eval_varying(const TexturePoint& at) const;
 
   Kind kind_;
   Rgb c0_, c1_{0.0f};
@@ -64,6 +90,7 @@ class Texture {
   UvTransform to_uv_;
   bool bilinear_ = true;
   Bitmap::Wrap wrap_ = Bitmap::Wrap::repeat;
+  std::string attribute_, id_;
 };
 
 }  // namespace clr::scene

@@ -244,6 +244,14 @@ const std::vector<Case>& cases() {
       generated_case("truncated_binary.ply.xml", "more than the file's 20 bytes"),
       generated_case("huge_list.ply.xml", "list length out of range"),
       generated_case("nan_binary.ply.xml", "not finite"),
+      // Mesh attributes (mesh_attribute textures)
+      generated_case("attribute_missing.xml",
+                     "mesh_attribute texture 'tex' reads attribute 'face_color', which shape 'attributed' does not "
+                     "have (it has vertex_color, face_weight)"),
+      generated_case("attribute_rgba.xml", "which has 4 channels: only 1 or 3 can be evaluated"),
+      generated_case("attribute_nan.xml", "which holds a non-finite value"),
+      generated_case("attribute_bad_name.xml", "a mesh attribute's name starts with 'vertex_' or 'face_', not 'color'"),
+      generated_case("attribute_on_light.xml", "only shapes have mesh attributes"),
       // .serialized
       generated_case("garbage.serialized.xml", "not a serialized mesh"),
       generated_case("shape_table.serialized.xml", "more than its size can index"),
@@ -409,6 +417,36 @@ void generate(const fs::path& t) {
   }
   for (const char* f : {"billions_binary.ply", "truncated_binary.ply", "huge_list.ply", "nan_binary.ply"})
     write(t / (std::string(f) + ".xml"), mesh_scene("ply", t / f));
+
+  // Mesh attributes: a triangle with vertex colours (and alpha) and a face weight (NaN in one file), under a light,
+  // its reflectance the mesh_attribute texture `tex`.
+  for (const bool nan : {false, true}) {
+    std::string ply = vertex_header +
+                      "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n"
+                      "element face 1\nproperty list uchar int vertex_indices\nproperty float weight_0\nend_header\n";
+    for (int v = 0; v < 3; ++v) {
+      ply += vertices.substr(std::size_t(12 * v), 12);
+      ply += std::string(4, char(200));
+    }
+    ply += face;
+    put(ply, nan ? std::numeric_limits<float>::quiet_NaN() : 0.5f);
+    write(t / (nan ? "attribute_nan.ply" : "attribute.ply"), ply);
+  }
+  const auto attributed = [&](const std::string& file, const std::string& name) {
+    return scene_around(
+        "<shape type=\"rectangle\"><emitter type=\"area\"/></shape>\n"
+        "  <texture type=\"mesh_attribute\" id=\"tex\"><string name=\"name\" value=\"" +
+        name + "\"/></texture>\n  <shape type=\"ply\" id=\"attributed\"><string name=\"filename\" value=\"" +
+        (t / file).string() + "\"/><bsdf type=\"diffuse\"><ref name=\"reflectance\" id=\"tex\"/></bsdf></shape>");
+  };
+  write(t / "attribute_missing.xml", attributed("attribute.ply", "face_color"));
+  write(t / "attribute_rgba.xml", attributed("attribute.ply", "vertex_color"));
+  write(t / "attribute_nan.xml", attributed("attribute_nan.ply", "face_weight"));
+  write(t / "attribute_bad_name.xml", attributed("attribute.ply", "color"));
+  write(t / "attribute_on_light.xml",
+        scene_around("<shape type=\"rectangle\"><emitter type=\"area\"/></shape>\n  <emitter type=\"spot\">"
+                     "<texture type=\"mesh_attribute\" name=\"texture\"><string name=\"name\" value=\"face_weight\"/>"
+                     "</texture></emitter>"));
 
   // .serialized
   write(t / "garbage.serialized", random_bytes(4096, 4));

@@ -30,9 +30,6 @@ const std::map<std::string, std::string> kRefused = {
     // Out of scope for a surface-only renderer: refused for good.
     {"out-of-scope/mitsuba-data--shape_linearcurve_basic", "curves (hair) are not surfaces"},
     {"out-of-scope/mitsuba-data--test_hetero_sigmat_volpath", "participating media are not modelled"},
-    // Not supported yet.
-    {"mitsuba-data--test_mesh_attributes_1_face_direct", "unsupported texture type 'mesh_attribute'"},
-    {"mitsuba-data--test_mesh_attributes_3_face_direct", "unsupported texture type 'mesh_attribute'"},
 };
 
 struct CorpusScene {

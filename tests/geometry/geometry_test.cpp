@@ -29,8 +29,8 @@ TEST_F(Geometry, ClosestHitFindsThePointItsAttributesAndItsSide) {
   EXPECT_NEAR(hit.t, 3.0f, 1e-6f);
   const auto p = g.surface(hit);
   EXPECT_NEAR(glm::length(p.position - Vec3(0.5f, -0.5f, 0)), 0.0f, 1e-6f);
-  EXPECT_NEAR(p.uv.x, 0.75f, 1e-6f);  // Mitsuba's rectangle uv: ((x+1)/2, (y+1)/2)
-  EXPECT_NEAR(p.uv.y, 0.25f, 1e-6f);
+  EXPECT_NEAR(p.at.uv.x, 0.75f, 1e-6f);  // Mitsuba's rectangle uv: ((x+1)/2, (y+1)/2)
+  EXPECT_NEAR(p.at.uv.y, 0.25f, 1e-6f);
   EXPECT_NEAR(p.frame.n.z, 1.0f, 1e-6f);
   EXPECT_NEAR(std::abs(p.geometric_normal.z), 1.0f, 1e-6f);
   EXPECT_FLOAT_EQ(geometry::emitted(s, p, Vec3(0, 0, 1)).x, 2.0f);   // the front emits

@@ -194,13 +194,18 @@ INSTANTIATE_TEST_SUITE_P(All, BsdfSampling, ::testing::ValuesIn(cases()),
 // The χ² test must be able to fail: cosine-weighted samples claimed to be uniform over the hemisphere.
 class MislabelledDiffuse final : public scene::Bsdf {
  public:
-  Rgb eval(const Vec2&, const Vec3&, const Vec3& wi) const override { return Rgb(wi.z > 0 ? wi.z / scene::kPi : 0); }
-  float pdf(const Vec2&, const Vec3&, const Vec3& wi) const override { return wi.z > 0 ? 0.5f / scene::kPi : 0; }
-  std::optional<scene::BsdfSample> sample(const Vec2&, const Vec3&, float, const Vec2& u) const override {
+  Rgb eval(const scene::TexturePoint&, const Vec3&, const Vec3& wi) const override {
+    return Rgb(wi.z > 0 ? wi.z / scene::kPi : 0);
+  }
+  float pdf(const scene::TexturePoint&, const Vec3&, const Vec3& wi) const override {
+    return wi.z > 0 ? 0.5f / scene::kPi : 0;
+  }
+  std::optional<scene::BsdfSample> sample(const scene::TexturePoint&, const Vec3&, float,
+                                          const Vec2& u) const override {
     const Vec3 wi = scene::sample_cosine_hemisphere(u);
     return scene::BsdfSample{wi, Rgb(1.0f), 0.5f / scene::kPi, false};
   }
-  Rgb albedo(const Vec2&) const override { return Rgb(1.0f); }
+  Rgb albedo(const scene::TexturePoint&) const override { return Rgb(1.0f); }
   float roughness() const override { return 1.0f; }
   bool has_non_delta() const override { return true; }
 };

@@ -4,36 +4,36 @@
 
 namespace clr::scene {
 
-Rgb BlendBsdf::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
-  const float w = weight(uv);
-  return (1.0f - w) * a_->eval(uv, wo, wi) + w * b_->eval(uv, wo, wi);
+Rgb BlendBsdf::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
+  const float w = weight(at);
+  return (1.0f - w) * a_->eval(at, wo, wi) + w * b_->eval(at, wo, wi);
 }
 
-float BlendBsdf::pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
-  const float w = weight(uv);
-  return (1.0f - w) * a_->pdf(uv, wo, wi) + w * b_->pdf(uv, wo, wi);
+float BlendBsdf::pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
+  const float w = weight(at);
+  return (1.0f - w) * a_->pdf(at, wo, wi) + w * b_->pdf(at, wo, wi);
 }
 
-std::optional<BsdfSample> BlendBsdf::sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const {
-  const float w = weight(uv);
+std::optional<BsdfSample> BlendBsdf::sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const {
+  const float w = weight(at);
   const bool second = u_lobe < w;
   // The lobe variable, reused for the chosen BSDF's own choice.
   const float u_rest = second ? u_lobe / w : (u_lobe - w) / (1.0f - w);
-  auto s = (second ? b_ : a_)->sample(uv, wo, std::fmin(u_rest, 0x1.fffffep-1f), u);
+  auto s = (second ? b_ : a_)->sample(at, wo, std::fmin(u_rest, 0x1.fffffep-1f), u);
   if (!s) return std::nullopt;
   if (s->delta) {
     // A delta lobe of one BSDF: chosen with the blend's probability times its own, valued at the blend's factor.
     s->pdf *= second ? w : 1.0f - w;
     return s;
   }
-  const float p = pdf(uv, wo, s->wi);
+  const float p = pdf(at, wo, s->wi);
   if (!(p > 0)) return std::nullopt;
-  return BsdfSample{s->wi, eval(uv, wo, s->wi) / p, p, false};
+  return BsdfSample{s->wi, eval(at, wo, s->wi) / p, p, false};
 }
 
-Rgb BlendBsdf::albedo(const Vec2& uv) const {
-  const float w = weight(uv);
-  return (1.0f - w) * a_->albedo(uv) + w * b_->albedo(uv);
+Rgb BlendBsdf::albedo(const TexturePoint& at) const {
+  const float w = weight(at);
+  return (1.0f - w) * a_->albedo(at) + w * b_->albedo(at);
 }
 
 float BlendBsdf::roughness() const {

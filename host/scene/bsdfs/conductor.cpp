@@ -7,40 +7,40 @@
 
 namespace clr::scene {
 
-Microfacet Conductor::microfacet(const Vec2& uv) const {
+Microfacet Conductor::microfacet(const TexturePoint& at) const {
   if (!textured_) return *mf_;
   // Mitsuba clamps textured roughness away from 0 as well: below 1e-4 the lobe is numerically a delta.
   Microfacet m = *mf_;
-  m.alpha = std::fmax(textured_->alpha_u.eval(uv).x, 1e-4f);
-  m.alpha_v = std::fmax(textured_->alpha_v.eval(uv).x, 1e-4f);
+  m.alpha = std::fmax(textured_->alpha_u.eval(at).x, 1e-4f);
+  m.alpha_v = std::fmax(textured_->alpha_v.eval(at).x, 1e-4f);
   return m;
 }
 
-Rgb Conductor::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+Rgb Conductor::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (!mf_ || wo.z <= 0 || wi.z <= 0) return Rgb(0.0f);
-  const Microfacet mf = microfacet(uv);
+  const Microfacet mf = microfacet(at);
   const Vec3 m = glm::normalize(wo + wi);
   const float d = mf.D(m);
   if (d == 0.0f) return Rgb(0.0f);
   const Rgb f = fresnel_conductor(glm::dot(wo, m), eta_, k_);
-  return specular_.eval(uv) * f * (d * mf.G(wo, wi, m) / (4.0f * wo.z));
+  return specular_.eval(at) * f * (d * mf.G(wo, wi, m) / (4.0f * wo.z));
 }
 
-float Conductor::pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+float Conductor::pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (!mf_ || wo.z <= 0 || wi.z <= 0) return 0.0f;
   const Vec3 m = glm::normalize(wo + wi);
-  return microfacet(uv).pdf_m(m) / (4.0f * glm::dot(wo, m));
+  return microfacet(at).pdf_m(m) / (4.0f * glm::dot(wo, m));
 }
 
-std::optional<BsdfSample> Conductor::sample(const Vec2& uv, const Vec3& wo, float, const Vec2& u) const {
+std::optional<BsdfSample> Conductor::sample(const TexturePoint& at, const Vec3& wo, float, const Vec2& u) const {
   if (wo.z <= 0) return std::nullopt;
-  if (!mf_) return BsdfSample{reflect_z(wo), specular_.eval(uv) * fresnel_conductor(wo.z, eta_, k_), 1.0f, true};
-  const Vec3 wi = reflect(wo, microfacet(uv).sample_m(u));
+  if (!mf_) return BsdfSample{reflect_z(wo), specular_.eval(at) * fresnel_conductor(wo.z, eta_, k_), 1.0f, true};
+  const Vec3 wi = reflect(wo, microfacet(at).sample_m(u));
   if (wi.z <= 0) return std::nullopt;
-  return continuous_sample(uv, wo, wi);
+  return continuous_sample(at, wo, wi);
 }
 
-Rgb Conductor::albedo(const Vec2& uv) const { return specular_.eval(uv) * fresnel_conductor(1.0f, eta_, k_); }
+Rgb Conductor::albedo(const TexturePoint& at) const { return specular_.eval(at) * fresnel_conductor(1.0f, eta_, k_); }
 
 }  // namespace clr::scene
 

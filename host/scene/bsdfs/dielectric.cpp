@@ -14,7 +14,7 @@ Dielectric::Dielectric(Kind kind, float eta, Texture specular_reflectance, Textu
       transmittance_(std::move(specular_transmittance)),
       mf_(microfacet) {}
 
-Rgb Dielectric::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+Rgb Dielectric::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (kind_ != Kind::rough || wo.z == 0 || wi.z == 0) return Rgb(0.0f);
   const Vec3 m = half_vector(wo, wi, eta_);
   const float d = mf_->D(m);
@@ -22,14 +22,14 @@ Rgb Dielectric::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
   const float g = mf_->G(wo, wi, m);
   const float co = glm::dot(wo, m), ci = glm::dot(wi, m);
   const float f = fresnel_dielectric(co, eta_).reflectance;
-  if (wo.z * wi.z > 0) return reflectance_.eval(uv) * (f * d * g / (4.0f * std::fabs(wo.z)));
+  if (wo.z * wi.z > 0) return reflectance_.eval(at) * (f * d * g / (4.0f * std::fabs(wo.z)));
   if (co * ci >= 0) return Rgb(0.0f);
   const float eta_rel = wo.z > 0 ? eta_ : 1.0f / eta_;
   const float denom = co + eta_rel * ci;
-  return transmittance_.eval(uv) * ((1.0f - f) * d * g * std::fabs(ci * co) / (std::fabs(wo.z) * denom * denom));
+  return transmittance_.eval(at) * ((1.0f - f) * d * g * std::fabs(ci * co) / (std::fabs(wo.z) * denom * denom));
 }
 
-float Dielectric::pdf(const Vec2&, const Vec3& wo, const Vec3& wi) const {
+float Dielectric::pdf(const TexturePoint&, const Vec3& wo, const Vec3& wi) const {
   if (kind_ != Kind::rough || wo.z == 0 || wi.z == 0) return 0.0f;
   const Vec3 m = half_vector(wo, wi, eta_);
   const float co = glm::dot(wo, m), ci = glm::dot(wi, m);
@@ -43,7 +43,8 @@ float Dielectric::pdf(const Vec2&, const Vec3& wo, const Vec3& wi) const {
   return pm * (1.0f - f) * eta_rel * eta_rel * std::fabs(ci) / (denom * denom);
 }
 
-std::optional<BsdfSample> Dielectric::sample_rough(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const {
+std::optional<BsdfSample> Dielectric::sample_rough(const TexturePoint& at, const Vec3& wo, float u_lobe,
+                                                   const Vec2& u) const {
   const Vec3 m = mf_->sample_m(u);
   const float co = glm::dot(wo, m);
   if (co * wo.z <= 0) return std::nullopt;
@@ -51,24 +52,25 @@ std::optional<BsdfSample> Dielectric::sample_rough(const Vec2& uv, const Vec3& w
   const bool reflection = u_lobe < fr.reflectance;
   const Vec3 wi = reflection ? reflect(wo, m) : refract(wo, m, co, fr.cos_t, fr.eta_ti);
   if ((wi.z * wo.z > 0) != reflection || wi.z == 0) return std::nullopt;
-  return continuous_sample(uv, wo, wi);
+  return continuous_sample(at, wo, wi);
 }
 
-std::optional<BsdfSample> Dielectric::sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const {
+std::optional<BsdfSample> Dielectric::sample(const TexturePoint& at, const Vec3& wo, float u_lobe,
+                                             const Vec2& u) const {
   if (wo.z == 0) return std::nullopt;
-  if (kind_ == Kind::rough) return sample_rough(uv, wo, u_lobe, u);
+  if (kind_ == Kind::rough) return sample_rough(at, wo, u_lobe, u);
   const auto fr = fresnel_dielectric(wo.z, eta_);
   if (kind_ == Kind::thin) {
     // Sum of the slab's internal bounces: R + T²R/(1−R²) = 2R/(1+R) reflected, the rest passes straight through.
     const float r = fr.reflectance < 1.0f ? 2.0f * fr.reflectance / (1.0f + fr.reflectance) : 1.0f;
-    if (u_lobe < r) return BsdfSample{reflect_z(wo), reflectance_.eval(uv), r, true};
-    return BsdfSample{-wo, transmittance_.eval(uv), 1.0f - r, true};
+    if (u_lobe < r) return BsdfSample{reflect_z(wo), reflectance_.eval(at), r, true};
+    return BsdfSample{-wo, transmittance_.eval(at), 1.0f - r, true};
   }
-  if (u_lobe < fr.reflectance) return BsdfSample{reflect_z(wo), reflectance_.eval(uv), fr.reflectance, true};
+  if (u_lobe < fr.reflectance) return BsdfSample{reflect_z(wo), reflectance_.eval(at), fr.reflectance, true};
   // Radiance crossing into a denser medium is compressed into a smaller solid angle: it scales by 1/η_ti² (η_ti:
   // IOR on the light's side over the viewer's side). The rough refraction term carries the same factor.
   const Vec3 wi = refract(wo, Vec3(0, 0, 1), wo.z, fr.cos_t, fr.eta_ti);
-  return BsdfSample{wi, transmittance_.eval(uv) / (fr.eta_ti * fr.eta_ti), 1.0f - fr.reflectance, true};
+  return BsdfSample{wi, transmittance_.eval(at) / (fr.eta_ti * fr.eta_ti), 1.0f - fr.reflectance, true};
 }
 
 }  // namespace clr::scene

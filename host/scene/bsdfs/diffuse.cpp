@@ -4,20 +4,20 @@
 namespace clr::scene {
 
 // One-sided like Mitsuba's: light arriving at or leaving the back is absorbed (`twosided` makes both sides scatter).
-Rgb Diffuse::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+Rgb Diffuse::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (wo.z <= 0 || wi.z <= 0) return Rgb(0.0f);
-  return reflectance_.eval(uv) * (kInvPi * wi.z);
+  return reflectance_.eval(at) * (kInvPi * wi.z);
 }
 
-float Diffuse::pdf(const Vec2&, const Vec3& wo, const Vec3& wi) const {
+float Diffuse::pdf(const TexturePoint&, const Vec3& wo, const Vec3& wi) const {
   return wo.z <= 0 ? 0.0f : cosine_hemisphere_pdf(wi.z);
 }
 
-std::optional<BsdfSample> Diffuse::sample(const Vec2& uv, const Vec3& wo, float, const Vec2& u) const {
+std::optional<BsdfSample> Diffuse::sample(const TexturePoint& at, const Vec3& wo, float, const Vec2& u) const {
   if (wo.z <= 0) return std::nullopt;
   const Vec3 wi = sample_cosine_hemisphere(u);
   if (wi.z <= 0) return std::nullopt;
-  return BsdfSample{wi, reflectance_.eval(uv), cosine_hemisphere_pdf(wi.z), false};
+  return BsdfSample{wi, reflectance_.eval(at), cosine_hemisphere_pdf(wi.z), false};
 }
 
 }  // namespace clr::scene

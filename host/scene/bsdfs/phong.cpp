@@ -19,22 +19,22 @@ Phong::Phong(Texture diffuse, Texture specular, float exponent)
   specular_probability_ = d + s > 0 ? s / (d + s) : 0.5f;
 }
 
-Rgb Phong::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+Rgb Phong::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (wo.z <= 0 || wi.z <= 0) return Rgb(0.0f);
   const float cos_alpha = glm::dot(mirror(wo), wi);
-  Rgb f = diffuse_.eval(uv) * kInvPi;
-  if (cos_alpha > 0) f += specular_.eval(uv) * ((exponent_ + 2) * 0.5f * kInvPi * std::pow(cos_alpha, exponent_));
+  Rgb f = diffuse_.eval(at) * kInvPi;
+  if (cos_alpha > 0) f += specular_.eval(at) * ((exponent_ + 2) * 0.5f * kInvPi * std::pow(cos_alpha, exponent_));
   return f * wi.z;
 }
 
-float Phong::pdf(const Vec2&, const Vec3& wo, const Vec3& wi) const {
+float Phong::pdf(const TexturePoint&, const Vec3& wo, const Vec3& wi) const {
   if (wo.z <= 0 || wi.z <= 0) return 0.0f;
   const float cos_alpha = glm::dot(mirror(wo), wi);
   const float p_spec = cos_alpha > 0 ? (exponent_ + 1) * 0.5f * kInvPi * std::pow(cos_alpha, exponent_) : 0.0f;
   return specular_probability_ * p_spec + (1 - specular_probability_) * cosine_hemisphere_pdf(wi.z);
 }
 
-std::optional<BsdfSample> Phong::sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const {
+std::optional<BsdfSample> Phong::sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const {
   if (wo.z <= 0) return std::nullopt;
   Vec3 wi;
   if (u_lobe < specular_probability_) {
@@ -46,7 +46,7 @@ std::optional<BsdfSample> Phong::sample(const Vec2& uv, const Vec3& wo, float u_
     wi = sample_cosine_hemisphere(u);
   }
   if (wi.z <= 0) return std::nullopt;
-  return continuous_sample(uv, wo, wi);
+  return continuous_sample(at, wo, wi);
 }
 
 }  // namespace clr::scene

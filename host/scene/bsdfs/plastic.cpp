@@ -80,43 +80,43 @@ float Plastic::specular_probability(float cos_o) const {
 
 // The substrate: light refracts in, scatters diffusely (with repeated internal reflections off the coating) and
 // refracts out, attenuated by the coating's transmittance both ways.
-Rgb Plastic::diffuse_term(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
-  const Rgb rho = diffuse_.eval(uv);
+Rgb Plastic::diffuse_term(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
+  const Rgb rho = diffuse_.eval(at);
   const Rgb substrate = nonlinear_ ? rho / (Rgb(1.0f) - rho * fdr_int_) : rho / (1.0f - fdr_int_);
   return substrate * (transmittance(wi.z) * transmittance(wo.z) / (eta_ * eta_) * kInvPi * wi.z);
 }
 
-Rgb Plastic::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+Rgb Plastic::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (wo.z <= 0 || wi.z <= 0) return Rgb(0.0f);
-  Rgb result = diffuse_term(uv, wo, wi);
+  Rgb result = diffuse_term(at, wo, wi);
   if (mf_) {
     const Vec3 m = glm::normalize(wo + wi);
     const float f = fresnel_dielectric(glm::dot(wo, m), eta_).reflectance;
-    result += specular_.eval(uv) * (f * mf_->D(m) * mf_->G(wo, wi, m) / (4.0f * wo.z));
+    result += specular_.eval(at) * (f * mf_->D(m) * mf_->G(wo, wi, m) / (4.0f * wo.z));
   }
   return result;
 }
 
-float Plastic::pdf(const Vec2&, const Vec3& wo, const Vec3& wi) const {
+float Plastic::pdf(const TexturePoint&, const Vec3& wo, const Vec3& wi) const {
   if (wo.z <= 0 || wi.z <= 0) return 0.0f;
   const float ps = specular_probability(wo.z);
   // Smooth: the specular lobe is a delta, so only the diffuse share has a density.
   return mf_ ? glossy_diffuse_pdf(*mf_, ps, wo, wi) : (1.0f - ps) * cosine_hemisphere_pdf(wi.z);
 }
 
-std::optional<BsdfSample> Plastic::sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const {
+std::optional<BsdfSample> Plastic::sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const {
   if (wo.z <= 0) return std::nullopt;
   const float ps = specular_probability(wo.z);
   if (mf_) {
     const auto wi = sample_glossy_diffuse(*mf_, ps, wo, u_lobe, u);
-    return wi ? continuous_sample(uv, wo, *wi) : std::nullopt;
+    return wi ? continuous_sample(at, wo, *wi) : std::nullopt;
   }
   if (u_lobe < ps) {
     const float f = fresnel_dielectric(wo.z, eta_).reflectance;
-    return BsdfSample{reflect_z(wo), specular_.eval(uv) * (f / ps), ps, true};
+    return BsdfSample{reflect_z(wo), specular_.eval(at) * (f / ps), ps, true};
   }
   const Vec3 wi = sample_cosine_hemisphere(u);
-  return wi.z > 0 ? continuous_sample(uv, wo, wi) : std::nullopt;
+  return wi.z > 0 ? continuous_sample(at, wo, wi) : std::nullopt;
 }
 
 }  // namespace clr::scene

@@ -16,25 +16,26 @@ PolarizedPlastic::PolarizedPlastic(float eta, Texture diffuse, std::optional<Tex
   specular_probability_ = d + s > 0 ? s / (d + s) : 0.5f;
 }
 
-Rgb PolarizedPlastic::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+Rgb PolarizedPlastic::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (wo.z <= 0 || wi.z <= 0) return Rgb(0.0f);
   const Vec3 m = glm::normalize(wo + wi);
   const float f = fresnel_dielectric(glm::dot(wo, m), eta_).reflectance;
   Rgb specular(f * mf_.D(m) * mf_.G(wo, wi, m) / (4.0f * wo.z));
-  if (specular_) specular *= specular_->eval(uv);
+  if (specular_) specular *= specular_->eval(at);
   const float t_o = 1.0f - fresnel_dielectric(wo.z, eta_).reflectance,
               t_i = 1.0f - fresnel_dielectric(wi.z, eta_).reflectance;
-  return specular + diffuse_.eval(uv) * (t_o * t_i * kInvPi * wi.z);
+  return specular + diffuse_.eval(at) * (t_o * t_i * kInvPi * wi.z);
 }
 
-float PolarizedPlastic::pdf(const Vec2&, const Vec3& wo, const Vec3& wi) const {
+float PolarizedPlastic::pdf(const TexturePoint&, const Vec3& wo, const Vec3& wi) const {
   return glossy_diffuse_pdf(mf_, specular_probability_, wo, wi);
 }
 
-std::optional<BsdfSample> PolarizedPlastic::sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const {
+std::optional<BsdfSample> PolarizedPlastic::sample(const TexturePoint& at, const Vec3& wo, float u_lobe,
+                                                   const Vec2& u) const {
   if (wo.z <= 0) return std::nullopt;
   const auto wi = sample_glossy_diffuse(mf_, specular_probability_, wo, u_lobe, u);
-  return wi ? continuous_sample(uv, wo, *wi) : std::nullopt;
+  return wi ? continuous_sample(at, wo, *wi) : std::nullopt;
 }
 
 }  // namespace clr::scene

@@ -58,12 +58,12 @@ float Principled::reflect_probability(float cos_o, float f) const {
   return cos_o > 0 ? 1.0f - transmission_weight() * (1.0f - f) : f;
 }
 
-Rgb Principled::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+Rgb Principled::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (wo.z == 0 || wi.z == 0) return Rgb(0.0f);
   const bool front = wo.z > 0, reflection = wo.z * wi.z > 0;
   const float bsdf = transmission_weight(), brdf = reflection_weight();
   if (!front && !(bsdf > 0)) return Rgb(0.0f);  // without transmission, black from below
-  const Rgb base = p_.base_color.eval(uv);
+  const Rgb base = p_.base_color.eval(at);
   const float lum = luminance(base);
   const Rgb tint = lum > 0 ? base / lum : Rgb(1.0f);
   const Vec3 h = half_vector(wo, wi, p_.eta);
@@ -107,7 +107,7 @@ Rgb Principled::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
   return value;
 }
 
-float Principled::pdf(const Vec2&, const Vec3& wo, const Vec3& wi) const {
+float Principled::pdf(const TexturePoint&, const Vec3& wo, const Vec3& wi) const {
   if (wo.z == 0 || wi.z == 0) return 0.0f;
   const Lobes l = lobes(wo.z);
   const bool reflection = wo.z * wi.z > 0;
@@ -131,7 +131,8 @@ float Principled::pdf(const Vec2&, const Vec3& wo, const Vec3& wi) const {
   return p;
 }
 
-std::optional<BsdfSample> Principled::sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const {
+std::optional<BsdfSample> Principled::sample(const TexturePoint& at, const Vec3& wo, float u_lobe,
+                                             const Vec2& u) const {
   if (wo.z == 0) return std::nullopt;
   const Lobes l = lobes(wo.z);
   Vec3 wi;
@@ -154,7 +155,7 @@ std::optional<BsdfSample> Principled::sample(const Vec2& uv, const Vec3& wo, flo
     return std::nullopt;
   }
   if (wi.z == 0) return std::nullopt;
-  return continuous_sample(uv, wo, wi);
+  return continuous_sample(at, wo, wi);
 }
 
 }  // namespace clr::scene

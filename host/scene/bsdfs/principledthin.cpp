@@ -40,11 +40,11 @@ ThinFrame thin_frame(const Vec3& wo, const Vec3& wi) {
 }
 }  // namespace
 
-Rgb PrincipledThin::eval(const Vec2& uv, const Vec3& wo_in, const Vec3& wi_in) const {
+Rgb PrincipledThin::eval(const TexturePoint& at, const Vec3& wo_in, const Vec3& wi_in) const {
   if (wo_in.z == 0 || wi_in.z == 0) return Rgb(0.0f);
   const ThinFrame t = thin_frame(wo_in, wi_in);
   const Vec3 &wo = t.wo, &wi = t.wi, &h = t.h;
-  const Rgb base = p_.base_color.eval(uv);
+  const Rgb base = p_.base_color.eval(at);
   const float diff_trans = 0.5f * p_.diff_trans, spec_trans = p_.spec_trans;
   const float cos_oh = glm::dot(wo, h), cos_ih = glm::dot(wi, h);
   Rgb value(0.0f);
@@ -73,7 +73,7 @@ Rgb PrincipledThin::eval(const Vec2& uv, const Vec3& wo_in, const Vec3& wi_in) c
   return value;
 }
 
-float PrincipledThin::pdf(const Vec2&, const Vec3& wo_in, const Vec3& wi_in) const {
+float PrincipledThin::pdf(const TexturePoint&, const Vec3& wo_in, const Vec3& wi_in) const {
   if (wo_in.z == 0 || wi_in.z == 0) return 0.0f;
   const ThinFrame t = thin_frame(wo_in, wi_in);
   const Lobes l = lobes();
@@ -89,7 +89,8 @@ float PrincipledThin::pdf(const Vec2&, const Vec3& wo_in, const Vec3& wi_in) con
   return p;
 }
 
-std::optional<BsdfSample> PrincipledThin::sample(const Vec2& uv, const Vec3& wo_in, float u_lobe, const Vec2& u) const {
+std::optional<BsdfSample> PrincipledThin::sample(const TexturePoint& at, const Vec3& wo_in, float u_lobe,
+                                                 const Vec2& u) const {
   if (wo_in.z == 0) return std::nullopt;
   const float s = wo_in.z > 0 ? 1.0f : -1.0f;
   const Vec3 wo = wo_in * s;
@@ -114,7 +115,7 @@ std::optional<BsdfSample> PrincipledThin::sample(const Vec2& uv, const Vec3& wo_
   }
   wi *= s;
   if (wi.z == 0) return std::nullopt;
-  return continuous_sample(uv, wo_in, wi);
+  return continuous_sample(at, wo_in, wi);
 }
 
 }  // namespace clr::scene

@@ -9,9 +9,9 @@
 
 namespace clr::scene {
 
-Rgb RoughDiffuse::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+Rgb RoughDiffuse::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (wo.z <= 0 || wi.z <= 0) return Rgb(0.0f);
-  const Rgb a = alpha_.eval(uv);
+  const Rgb a = alpha_.eval(at);
   const float sigma = (a.x + a.y + a.z) / 3.0f / std::sqrt(2.0f), s2 = sigma * sigma;
   const float sin_o = std::sqrt(std::fmax(0.0f, 1 - wo.z * wo.z)), sin_i = std::sqrt(std::fmax(0.0f, 1 - wi.z * wi.z));
   // cos(φi − φo), 0 where either direction is the normal (φ undefined).
@@ -20,7 +20,7 @@ Rgb RoughDiffuse::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
   const bool o_steeper = wo.z > wi.z;  // wo closer to the normal: β = θo
   const float sin_alpha = o_steeper ? sin_i : sin_o, sin_beta = o_steeper ? sin_o : sin_i;
   const float tan_beta = o_steeper ? sin_o / wo.z : sin_i / wi.z;
-  const Rgb rho = reflectance_.eval(uv);
+  const Rgb rho = reflectance_.eval(at);
   if (fast_) {
     const float A = 1 - 0.5f * s2 / (s2 + 0.33f), B = 0.45f * s2 / (s2 + 0.09f);
     return rho * (kInvPi * wi.z * (A + B * std::fmax(cos_phi, 0.0f) * sin_alpha * tan_beta));
@@ -40,16 +40,16 @@ Rgb RoughDiffuse::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
   return (single + twice) * (kInvPi * wi.z);
 }
 
-float RoughDiffuse::pdf(const Vec2&, const Vec3& wo, const Vec3& wi) const {
+float RoughDiffuse::pdf(const TexturePoint&, const Vec3& wo, const Vec3& wi) const {
   return wo.z <= 0 || wi.z <= 0 ? 0.0f : cosine_hemisphere_pdf(wi.z);
 }
 
-std::optional<BsdfSample> RoughDiffuse::sample(const Vec2& uv, const Vec3& wo, float, const Vec2& u) const {
+std::optional<BsdfSample> RoughDiffuse::sample(const TexturePoint& at, const Vec3& wo, float, const Vec2& u) const {
   if (wo.z <= 0) return std::nullopt;
   const Vec3 wi = sample_cosine_hemisphere(u);
   const float p = cosine_hemisphere_pdf(wi.z);
   if (!(p > 0)) return std::nullopt;
-  return BsdfSample{wi, eval(uv, wo, wi) / p, p, false};
+  return BsdfSample{wi, eval(at, wo, wi) / p, p, false};
 }
 
 }  // namespace clr::scene

@@ -6,17 +6,17 @@ namespace {
 Vec3 flip(const Vec3& w) { return {w.x, w.y, -w.z}; }
 }  // namespace
 
-Rgb TwoSided::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
-  return wo.z >= 0 ? nested_->eval(uv, wo, wi) : back_->eval(uv, flip(wo), flip(wi));
+Rgb TwoSided::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
+  return wo.z >= 0 ? nested_->eval(at, wo, wi) : back_->eval(at, flip(wo), flip(wi));
 }
 
-float TwoSided::pdf(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
-  return wo.z >= 0 ? nested_->pdf(uv, wo, wi) : back_->pdf(uv, flip(wo), flip(wi));
+float TwoSided::pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
+  return wo.z >= 0 ? nested_->pdf(at, wo, wi) : back_->pdf(at, flip(wo), flip(wi));
 }
 
-std::optional<BsdfSample> TwoSided::sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const {
-  if (wo.z >= 0) return nested_->sample(uv, wo, u_lobe, u);
-  auto s = back_->sample(uv, flip(wo), u_lobe, u);
+std::optional<BsdfSample> TwoSided::sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const {
+  if (wo.z >= 0) return nested_->sample(at, wo, u_lobe, u);
+  auto s = back_->sample(at, flip(wo), u_lobe, u);
   if (s) s->wi = flip(s->wi);
   return s;
 }

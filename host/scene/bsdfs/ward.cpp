@@ -17,7 +17,7 @@ Ward::Ward(Variant variant, Texture diffuse, Texture specular, float alpha_u, fl
   specular_probability_ = d + s > 0 ? s / (d + s) : 0.5f;
 }
 
-Rgb Ward::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
+Rgb Ward::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (wo.z <= 0 || wi.z <= 0) return Rgb(0.0f);
   const Vec3 h = wo + wi;
   const float ax = mf_.alpha, ay = mf_.av();
@@ -33,17 +33,17 @@ Rgb Ward::eval(const Vec2& uv, const Vec3& wo, const Vec3& wi) const {
       norm = glm::dot(h, h) / (kPi * ax * ay * h.z * h.z * h.z * h.z);
   }
   const float e = -((h.x / ax) * (h.x / ax) + (h.y / ay) * (h.y / ay)) / (h.z * h.z);
-  return (diffuse_.eval(uv) * kInvPi + specular_.eval(uv) * (norm * std::exp(e))) * wi.z;
+  return (diffuse_.eval(at) * kInvPi + specular_.eval(at) * (norm * std::exp(e))) * wi.z;
 }
 
-float Ward::pdf(const Vec2&, const Vec3& wo, const Vec3& wi) const {
+float Ward::pdf(const TexturePoint&, const Vec3& wo, const Vec3& wi) const {
   return glossy_diffuse_pdf(mf_, specular_probability_, wo, wi);
 }
 
-std::optional<BsdfSample> Ward::sample(const Vec2& uv, const Vec3& wo, float u_lobe, const Vec2& u) const {
+std::optional<BsdfSample> Ward::sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const {
   if (wo.z <= 0) return std::nullopt;
   const auto wi = sample_glossy_diffuse(mf_, specular_probability_, wo, u_lobe, u);
-  return wi ? continuous_sample(uv, wo, *wi) : std::nullopt;
+  return wi ? continuous_sample(at, wo, *wi) : std::nullopt;
 }
 
 }  // namespace clr::scene

@@ -20,6 +20,9 @@ namespace {
 using loader::Node;
 using loader::Props;
 
+// Mesh attributes named by mesh_attribute textures: attribute → the id of a texture naming it.
+using AttributeUses = std::map<std::string, std::string>;
+
 class Loader final : public loader::Context {
   static constexpr std::size_t kMaxFiles = 1024;
 
@@ -55,6 +58,7 @@ class Loader final : public loader::Context {
       build_declared(n.attr("id"));
       const auto it = textures_.find(n.attr("id"));
       if (it == textures_.end()) n.fail("reference to unknown texture id '" + n.attr("id") + "'");
+      record_use(it->second);
       return it->second;
     }
     register_id(n, "texture");
@@ -64,6 +68,7 @@ class Loader final : public loader::Context {
     const Texture t = reader(*this, p);
     p.check_all_used();
     if (n.has("id")) textures_[n.attr("id")] = t;
+    record_use(t);
     return t;
   }
 
@@ -155,6 +160,26 @@ class Loader final : public loader::Context {
     return own;
   }
 
+  // What a material or emitter reads of its shape's mesh: the uses of the textures read while `build` runs (nested
+  // and referenced materials included) are gathered into `uses`.
+  template <typename Build>
+  auto gathering_uses(AttributeUses& uses, Build build) {
+    attribute_scopes_.emplace_back();
+    auto made = build();
+    uses = std::move(attribute_scopes_.back());
+    attribute_scopes_.pop_back();
+    return made;
+  }
+  void record_uses(const AttributeUses& uses) {
+    for (auto& scope : attribute_scopes_) scope.insert(uses.begin(), uses.end());
+  }
+  void record_use(const Texture& t) {
+    for (auto& scope : attribute_scopes_) record_use(t, scope);
+  }
+  static void record_use(const Texture& t, AttributeUses& uses) {
+    if (!t.attribute().empty()) uses.try_emplace(t.attribute(), t.id());
+  }
+
   void register_id(const Node& n, const std::string& kind) {
     if (!n.has("id")) return;
     if (!ids_.emplace(n.attr("id"), kind).second) n.fail("duplicate id '" + n.attr("id") + "'");
@@ -243,7 +268,10 @@ class Loader final : public loader::Context {
     const std::string id = ref.attr("id");
     build_declared(id);
     const auto it = bsdfs_.find(id);
-    if (it != bsdfs_.end()) return it->second;
+    if (it != bsdfs_.end()) {
+      record_uses(bsdf_uses_[it->second.get()]);
+      return it->second;
+    }
     if (ids_.count(id)) ref.fail("id '" + id + "' does not name a BSDF");
     ref.fail("reference to unknown id '" + id + "'");
   }
@@ -255,7 +283,9 @@ class Loader final : public loader::Context {
     if (const char* why = loader::refused_plugin("bsdf", type)) n.fail(why);
     const auto reader = loader::bsdf_reader(type);
     if (!reader) n.fail("unsupported BSDF type '" + type + "'");
-    const auto b = reader(*this, p);
+    AttributeUses uses;
+    const auto b = gathering_uses(uses, [&] { return reader(*this, p); });
+    bsdf_uses_[b.get()] = uses;
     p.check_all_used();
     if (n.has("id")) bsdfs_[n.attr("id")] = b;
     return b;
@@ -402,7 +432,34 @@ class Loader final : public loader::Context {
     if (s.is_emitter() && b && dynamic_cast<const NullBsdf*>(b.get()))
       n.fail("an emitting shape with a null BSDF is not supported (its surface is invisible to rays)");
     s.material = material_index(b ? b : default_bsdf());
+    AttributeUses uses = b ? bsdf_uses_[b.get()] : AttributeUses{};
+    if (s.radiance_texture) record_use(*s.radiance_texture, uses);
+    keep_attributes(n, s, uses);
     return s;
+  }
+
+  // Mitsuba evaluates a mesh_attribute texture on the shape a ray hits, and fails mid-render where the attribute
+  // is missing; here every attribute the shape's material or emitter reads must be on its mesh (with 1 or 3
+  // channels, finite) when the scene is read. Attributes nothing reads are dropped.
+  static void keep_attributes(const Node& n, Shape& s, const AttributeUses& uses) {
+    std::vector<MeshAttribute> kept;
+    for (const auto& [name, texture] : uses) {
+      const MeshAttribute* a = s.mesh.attribute(name);
+      const std::string what = "mesh_attribute texture '" + texture + "' reads attribute '" + name + "'";
+      if (!a) {
+        std::string has;
+        for (const auto& other : s.mesh.attributes) has += (has.empty() ? "" : ", ") + other.name;
+        n.fail(what + ", which shape '" + s.id + "' does not have (" +
+               (has.empty() ? "it has no attributes" : "it has " + has) + ")");
+      }
+      if (a->channels != 1 && a->channels != 3)
+        n.fail(what + " of shape '" + s.id + "', which has " + std::to_string(a->channels) +
+               " channels: only 1 or 3 can be evaluated (as in Mitsuba)");
+      for (const float v : a->values)
+        if (!std::isfinite(v)) n.fail(what + " of shape '" + s.id + "', which holds a non-finite value");
+      kept.push_back(*a);
+    }
+    s.mesh.attributes = std::move(kept);
   }
 
   // ---- emitters -------------------------------------------------------------------------------------------------
@@ -411,7 +468,11 @@ class Loader final : public loader::Context {
     const std::string type = p.type();
     const auto reader = loader::emitter_reader(type);
     if (!reader) n.fail("unsupported emitter type '" + type + "'");
-    auto e = reader(*this, p);
+    AttributeUses uses;
+    auto e = gathering_uses(uses, [&] { return reader(*this, p); });
+    if (!e.area && !uses.empty())
+      n.fail("mesh_attribute texture '" + uses.begin()->second + "' on an emitter that is no shape's: only shapes " +
+             "have mesh attributes");
     // Every Mitsuba emitter takes a share of the light samples; clradiosity chooses its own.
     p.ignore({"sampling_weight"});
     p.check_all_used();
@@ -468,6 +529,8 @@ class Loader final : public loader::Context {
   std::map<std::string, std::string> ids_;  // id → kind of element
   std::map<std::string, std::shared_ptr<const Bsdf>> bsdfs_;
   std::map<std::string, Texture> textures_;
+  std::vector<AttributeUses> attribute_scopes_;     // the materials and emitters being built, innermost last
+  std::map<const Bsdf*, AttributeUses> bsdf_uses_;  // what each material's textures read of a mesh
   std::map<std::string, Texture> area_emitters_;
   std::map<std::string, std::vector<Shape>> groups_;  // shapegroups by id
   std::map<std::tuple<std::string, bool, float>, std::shared_ptr<const Bitmap>> bitmaps_;

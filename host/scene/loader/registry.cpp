@@ -28,9 +28,10 @@ namespace clr::scene::loader {
   X("principled", read_principled)      \
   X("principledthin", read_principledthin)
 
-#define CLR_TEXTURE_PLUGINS(X)         \
-  X("bitmap", read_bitmap)             \
-  X("checkerboard", read_checkerboard) \
+#define CLR_TEXTURE_PLUGINS(X)             \
+  X("bitmap", read_bitmap)                 \
+  X("checkerboard", read_checkerboard)     \
+  X("mesh_attribute", read_mesh_attribute) \
   X("rawconstant", read_rawconstant)
 
 #define CLR_SHAPE_PLUGINS(X)       \

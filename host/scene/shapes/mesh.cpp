@@ -10,6 +10,28 @@
 
 namespace clr::scene {
 
+Rgb MeshAttribute::eval(std::uint32_t prim, const glm::uvec3& t, const Vec2& b) const {
+  const auto c = std::size_t(channels);
+  auto at = [&](std::size_t element) {
+    const float* v = &values[element * c];
+    return c == 1 ? Rgb(v[0]) : Rgb(v[0], v[1], v[2]);
+  };
+  if (per_face()) return at(prim);
+  return (1.0f - b.x - b.y) * at(t.x) + b.x * at(t.y) + b.y * at(t.z);
+}
+
+const MeshAttribute* Mesh::attribute(const std::string& name) const {
+  for (const auto& a : attributes)
+    if (a.name == name) return &a;
+  return nullptr;
+}
+
+TexturePoint Mesh::texture_point(std::uint32_t prim, const Vec2& b) const {
+  const glm::uvec3 t = triangles[prim];
+  const Vec2 uv = uvs.empty() ? Vec2(0.0f) : (1.0f - b.x - b.y) * uvs[t.x] + b.x * uvs[t.y] + b.y * uvs[t.z];
+  return {uv, *this, prim, b};
+}
+
 void Mesh::transform(const glm::mat4& to_world) {
   for (auto& p : positions) p = Vec3(to_world * glm::vec4(p, 1.0f));
   const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(to_world)));
@@ -73,11 +95,19 @@ void Mesh::compute_crease_normals(float max_angle_degrees) {
   out.normals.resize(3 * nt);
   if (!uvs.empty()) out.uvs.resize(3 * nt);
   out.triangles.resize(nt);
+  out.attributes = attributes;
+  for (auto& a : out.attributes)
+    if (!a.per_face()) a.values.resize(3 * nt * std::size_t(a.channels));
   for (std::size_t f = 0; f < nt; ++f)
     for (int i = 0; i < 3; ++i) {
       const std::uint32_t v = triangles[f][i], c = std::uint32_t(3 * f + std::size_t(i));
       out.positions[c] = positions[v];
       if (!uvs.empty()) out.uvs[c] = uvs[v];
+      for (std::size_t k = 0; k < attributes.size(); ++k)
+        if (!attributes[k].per_face()) {
+          const auto n = std::size_t(attributes[k].channels);
+          std::copy_n(&attributes[k].values[v * n], n, &out.attributes[k].values[c * n]);
+        }
       out.triangles[f][i] = c;
       Vec3 sum(0.0f);
       for (const std::uint32_t o : at[{positions[v].x, positions[v].y, positions[v].z}])
@@ -105,6 +135,13 @@ void Mesh::validate(const std::string& what) const {
   for (const auto& t : triangles)
     if (t.x >= positions.size() || t.y >= positions.size() || t.z >= positions.size())
       throw InputError(what + ": triangle index out of range");
+  for (const auto& a : attributes) {
+    const std::size_t elements = a.per_face() ? triangles.size() : positions.size();
+    if (a.channels < 1 || a.values.size() != elements * std::size_t(a.channels))
+      throw InputError(what + ": mesh attribute '" + a.name + "' holds " + std::to_string(a.values.size()) +
+                       " values, not " + std::to_string(a.channels) + " for each of the " + std::to_string(elements) +
+                       (a.per_face() ? " faces" : " vertices"));
+  }
 }
 
 double Mesh::area() const {

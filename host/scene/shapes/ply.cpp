@@ -1,5 +1,8 @@
 // PLY (Turk 1994): ascii, binary_little_endian and binary_big_endian; vertex x y z [nx ny nz] [u v | s t |
-// texture_u texture_v], faces as index lists (polygons are fanned into triangles). Other elements are skipped.
+// texture_u texture_v], faces as index lists (polygons are fanned into triangles). Further vertex and face
+// properties become mesh attributes by Mitsuba's naming rules (ply_attributes.hpp), their values as stored (Mitsuba
+// 3 neither normalises nor gamma-decodes integer colours); a fanned polygon's triangles share its face attributes.
+// Other elements are skipped.
 #include <algorithm>
 #include <bit>
 #include <cstdint>
@@ -10,6 +13,7 @@
 #include "common/error.hpp"
 #include "scene/mesh.hpp"
 #include "scene/shapes/file_mesh.hpp"
+#include "scene/shapes/ply_attributes.hpp"
 
 namespace clr::scene {
 namespace {
@@ -168,9 +172,22 @@ Mesh load_ply(const std::filesystem::path& path) {
     const int iu = find({"u", "s", "texture_u", "texture_s"}), iv = find({"v", "t", "texture_v", "texture_t"});
     if (vertex && (ix < 0 || iy < 0 || iz < 0)) throw InputError(path.string() + ": PLY vertices lack x, y or z");
     const bool normals = vertex && inx >= 0 && iny >= 0 && inz >= 0, uvs = vertex && iu >= 0 && iv >= 0;
+    // Properties that may carry attributes: the element's scalars, less those read as geometry above.
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < e.properties.size(); ++i) {
+      const int k = int(i);
+      const bool geometry =
+          vertex && (k == ix || k == iy || k == iz || (normals && (k == inx || k == iny || k == inz)) ||
+                     (uvs && (k == iu || k == iv)));
+      names.push_back(e.properties[i].count_type.empty() && !geometry ? e.properties[i].name : "");
+    }
+    const auto layout = vertex || face ? ply_attributes(e.name, names) : std::vector<PlyAttribute>{};
+    const std::size_t first_attribute = m.attributes.size();
+    for (const auto& a : layout) m.attributes.push_back({a.name, int(a.properties.size()), {}});
     std::vector<double> values(e.properties.size());
     std::vector<double> list;
     for (std::size_t n = 0; n < e.count; ++n) {
+      const std::size_t triangles_before = m.triangles.size();
       for (std::size_t p = 0; p < e.properties.size(); ++p) {
         const auto& prop = e.properties[p];
         if (prop.count_type.empty()) {
@@ -193,6 +210,12 @@ Mesh load_ply(const std::filesystem::path& path) {
         if (normals) m.normals.emplace_back(float(values[inx]), float(values[iny]), float(values[inz]));
         if (uvs) m.uvs.emplace_back(float(values[iu]), 1.0f - float(values[iv]));
       }
+      // One value per vertex, or per triangle the face was fanned into.
+      const std::size_t copies = face ? m.triangles.size() - triangles_before : 1;
+      for (std::size_t k = 0; k < layout.size(); ++k)
+        for (std::size_t c = 0; c < copies; ++c)
+          for (const std::size_t p : layout[k].properties)
+            m.attributes[first_attribute + k].values.push_back(float(values[p]));
     }
   }
   return m;

@@ -5,6 +5,7 @@
 
 #include "common/error.hpp"
 #include "image/image.hpp"
+#include "scene/mesh.hpp"
 
 namespace clr::scene {
 namespace {
@@ -88,8 +89,22 @@ Texture Texture::checkerboard(const Rgb& color0, const Rgb& color1, const UvTran
   return t;
 }
 
-Rgb Texture::eval_varying(const Vec2& uv_in) const {
-  const Vec2 uv = to_uv_.apply(uv_in);
+Texture Texture::mesh_attribute(const std::string& name, float scale, const std::string& id) {
+  Texture t{Rgb(scale)};  // c0_ holds the scale
+  t.kind_ = Kind::mesh_attribute;
+  t.attribute_ = name;
+  t.id_ = id;
+  return t;
+}
+
+Rgb Texture::eval_varying(const TexturePoint& at) const {
+  if (kind_ == Kind::mesh_attribute) {
+    // The loader refuses a shape whose material names an attribute its mesh lacks; only a point without a mesh
+    // (a bare uv) finds none, and sees black.
+    const MeshAttribute* a = at.mesh ? at.mesh->attribute(attribute_) : nullptr;
+    return a ? c0_ * a->eval(at.prim, at.mesh->triangles[at.prim], at.barycentric) : Rgb(0.0f);
+  }
+  const Vec2 uv = to_uv_.apply(at.uv);
   if (kind_ == Kind::bitmap) return bilinear_ ? bitmap_->bilinear(uv, wrap_) : bitmap_->nearest(uv, wrap_);
   // Mitsuba's checkerboard: colour 0 where the fractional parts of u and v lie in the same half.
   const bool mu = uv.x - std::floor(uv.x) > 0.5f, mv = uv.y - std::floor(uv.y) > 0.5f;
@@ -104,6 +119,8 @@ Rgb Texture::mean() const {
       return bitmap_->mean;
     case Kind::checkerboard:
       return 0.5f * (c0_ + c1_);
+    case Kind::mesh_attribute:
+      return 0.5f * c0_;
   }
   return c0_;
 }
