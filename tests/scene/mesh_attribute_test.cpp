@@ -201,6 +201,31 @@ TEST_F(MeshAttributes, ShapesKeepTheAttributesTheirMaterialsRead) {
   expect_rgb(reflectance.eval(p.at), 0.5f * Rgb(0.25f * 255, 0.5f * 255, 0.25f * 255), 1e-3f);
 }
 
+TEST_F(MeshAttributes, AnAreaEmittersRadianceMayBeAnAttribute) {
+  write("a.ply", kPly);
+  const auto s = scene::load_scene(scene(R"(<shape type="ply"><string name="filename" value="a.ply"/>
+      <emitter type="area"><texture type="mesh_attribute" name="radiance">
+        <string name="name" value="face_weight"/><float name="scale" value="4"/></texture></emitter></shape>)"));
+  ASSERT_TRUE(s.shapes.at(0).radiance_texture.has_value());
+  ASSERT_EQ(s.shapes[0].mesh.attributes.size(), 1u);
+  const geometry::Geometry g(s);
+  const auto p = g.surface(g.intersect({{1.5f, 0.25f, 1}, 0, {0, 0, -1}}));  // the third triangle, weight 0.75
+  EXPECT_EQ(p.at.prim, 2u);
+  expect_rgb(geometry::emitted(s, p, p.frame.n), Rgb(3.0f));
+}
+
+TEST(MeshAttributeTexture, CreaseNormalsCarryVertexAttributesToEveryCorner) {
+  auto m = triangle_with_attributes();
+  m.compute_crease_normals(30.0f);
+  ASSERT_EQ(m.positions.size(), 6u);  // every corner its own vertex
+  ASSERT_NO_THROW(m.validate("creased"));
+  const auto height = scene::Texture::mesh_attribute("vertex_height", 1.0f, "h");
+  const auto weight = scene::Texture::mesh_attribute("face_weight", 1.0f, "w");
+  // Triangle 1 was vertices 1, 3, 2 (heights 10, 30, 20): the same values at the same barycentrics.
+  expect_rgb(height.eval(m.texture_point(1, Vec2(0.5f, 0.25f))), Rgb(0.25f * 10 + 0.5f * 30 + 0.25f * 20));
+  expect_rgb(weight.eval(m.texture_point(1, Vec2(0.5f, 0.25f))), Rgb(0.75f));
+}
+
 TEST_F(MeshAttributes, AMissingAttributeNamesTheTextureTheAttributeAndTheShape) {
   write("a.ply", kPly);
   try {
