@@ -8,9 +8,7 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <optional>
-#include <sstream>
 
 #include "common/error.hpp"
 #include "geometry/geometry.hpp"
@@ -18,32 +16,13 @@
 #include "reference/mitsuba_peer.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/scene.hpp"
+#include "support/scenes_corpus.hpp"
 
 namespace clr::test {
 namespace {
 
 namespace fs = std::filesystem;
-const fs::path kCorpus = fs::path(CLR_SHARED_SCENES) / ".." / "scenes-corpus";
 constexpr int kSize = 48, kSpp = 256;  // the longer side; samples per pixel of each renderer
-
-struct CorpusScene {
-  std::string dir, main_xml;
-};
-void PrintTo(const CorpusScene& s, std::ostream* os) { *os << s.dir; }
-
-std::vector<CorpusScene> corpus_scenes() {
-  std::vector<CorpusScene> out;
-  std::ifstream in(kCorpus / "manifest.tsv");
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::istringstream fields(line);
-    CorpusScene s;
-    if (std::getline(fields, s.dir, '\t') && std::getline(fields, s.main_xml, '\t')) out.push_back(s);
-  }
-  if (out.empty()) out.push_back({});  // one test that reports the skip
-  return out;
-}
 
 class MitsubaCorpusPeer : public ::testing::TestWithParam<CorpusScene> {};
 
@@ -85,13 +64,7 @@ TEST_P(MitsubaCorpusPeer, AgreesWithinNoise) {
   EXPECT_TRUE(v.agrees()) << v;
 }
 
-INSTANTIATE_TEST_SUITE_P(Corpus, MitsubaCorpusPeer, ::testing::ValuesIn(corpus_scenes()),
-                         [](const ::testing::TestParamInfo<CorpusScene>& param_info) {
-                           std::string n = param_info.param.dir.empty() ? "absent" : param_info.param.dir;
-                           for (char& ch : n)
-                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(Corpus, MitsubaCorpusPeer, ::testing::ValuesIn(corpus_scenes()), corpus_test_name);
 
 }  // namespace
 }  // namespace clr::test

@@ -3,14 +3,14 @@
 // the feature it needs. Scenes refused today are listed below with the refusal expected; a scene not listed must
 // render, and a listed one that renders fails too (take it off the list), so the list only shrinks as features
 // land. Out-of-scope scenes (media, curves) are refused for good, and through the CLI with exit 2 and one line.
+#include "support/scenes_corpus.hpp"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
-#include <sstream>
 
 #include "common/error.hpp"
 #include "geometry/geometry.hpp"
@@ -23,39 +23,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kCorpus = fs::path(CLR_SHARED_SCENES) / ".." / "scenes-corpus";
-
 // Scene folder → a fragment of the refusal expected. Each names the missing (or out-of-scope) feature.
 const std::map<std::string, std::string> kRefused = {
     // Out of scope for a surface-only renderer: refused for good.
     {"out-of-scope/mitsuba-data--shape_linearcurve_basic", "curves (hair) are not surfaces"},
     {"out-of-scope/mitsuba-data--test_hetero_sigmat_volpath", "participating media are not modelled"},
 };
-
-struct CorpusScene {
-  std::string dir, main_xml;
-};
-
-void PrintTo(const CorpusScene& s, std::ostream* os) { *os << s.dir; }
-
-std::vector<CorpusScene> corpus_scenes() {
-  std::vector<CorpusScene> out;
-  std::ifstream in(kCorpus / "manifest.tsv");
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::istringstream fields(line);
-    CorpusScene s;
-    if (std::getline(fields, s.dir, '\t') && std::getline(fields, s.main_xml, '\t')) out.push_back(s);
-  }
-  return out;
-}
-
-std::string test_name(const std::string& dir) {
-  std::string n;
-  for (char c : dir) n += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-  return n;
-}
 
 class ScenesCorpus : public ::testing::TestWithParam<CorpusScene> {};
 
@@ -88,17 +61,7 @@ TEST_P(ScenesCorpus, RendersOrIsRefusedByName) {
   }
 }
 
-std::vector<CorpusScene> params() {
-  auto scenes = corpus_scenes();
-  if (scenes.empty()) scenes.push_back({});  // one test, which skips saying why
-  return scenes;
-}
-
-std::string param_name(const ::testing::TestParamInfo<CorpusScene>& p) {
-  return p.param.dir.empty() ? "absent" : test_name(p.param.dir);
-}
-
-INSTANTIATE_TEST_SUITE_P(Manifest, ScenesCorpus, ::testing::ValuesIn(params()), param_name);
+INSTANTIATE_TEST_SUITE_P(Manifest, ScenesCorpus, ::testing::ValuesIn(corpus_scenes()), corpus_test_name);
 
 // The CLI's side of an out-of-scope scene: exit 2 and a single line naming the feature.
 TEST(ScenesCorpusCli, OutOfScopeScenesExitTwoWithOneLine) {

@@ -1,0 +1,45 @@
+#pragma once
+// The corpus of public Mitsuba test scenes (../shared/scenes-corpus beside the shared scenes; its manifest.tsv:
+// folder, main file, ...) as the parameters of the tests that walk it. Where the corpus is absent the list holds one
+// empty entry, whose test skips saying why (named "absent").
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace clr::test {
+
+inline const std::filesystem::path kCorpus = std::filesystem::path(CLR_SHARED_SCENES) / ".." / "scenes-corpus";
+
+struct CorpusScene {
+  std::string dir, main_xml;  // empty where the corpus is absent
+};
+inline void PrintTo(const CorpusScene& s, std::ostream* os) { *os << s.dir; }
+
+inline std::vector<CorpusScene> corpus_scenes() {
+  std::vector<CorpusScene> out;
+  std::ifstream in(kCorpus / "manifest.tsv");
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    CorpusScene s;
+    if (std::getline(fields, s.dir, '\t') && std::getline(fields, s.main_xml, '\t')) out.push_back(s);
+  }
+  if (out.empty()) out.push_back({});
+  return out;
+}
+
+// A gtest parameter name: the folder with every character but letters and digits as '_'.
+inline std::string corpus_test_name(const ::testing::TestParamInfo<CorpusScene>& p) {
+  std::string n = p.param.dir.empty() ? "absent" : p.param.dir;
+  for (char& c : n)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return n;
+}
+
+}  // namespace clr::test
