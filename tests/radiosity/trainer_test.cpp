@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <thread>
@@ -234,6 +235,36 @@ TEST_F(Training, PipelinedStepsMatchSerialBitForBit) {
         if (col < a[r].size()) {
           EXPECT_EQ(a[r][col], b[r].at(col)) << "log row " << r << " column " << col;
         }
+  }
+}
+
+// The trainer's GPU-typed choices — batch 16384, the 512-wide N-Module, the GEMM plans and launch shapes of a GPU —
+// on a PoCL context that reports itself as an H200-sized GPU (132 compute units): NR and ISNR steps run, count no
+// non-finite term and leave finite parameters. The first H200 run threw at its first step on a path only a GPU
+// takes (docs/nvidia.md).
+TEST_F(Training, GpuShapedDeviceTakesFiniteSteps) {
+  cl::DeviceInfo gpu = ctx().device();
+  gpu.type = cl::DeviceType::Gpu;
+  gpu.compute_units = 132;
+  cl::Context on(gpu);
+  const auto scene = scene::load_scene(kScenes / "cornell-box.xml", {{"res", "16"}});
+  const geometry::Geometry geometry(scene);
+  for (const radiosity::Method method : {radiosity::Method::Nr, radiosity::Method::Isnr}) {
+    SCOPED_TRACE(method == radiosity::Method::Nr ? "nr" : "isnr");
+    radiosity::TrainConfig config;  // the device's defaults
+    config.method = method;
+    config.steps = 2;
+    config.guide_warmup = 0.0;  // the guided branch from the first step
+    TempRun run("gpu_shaped");
+    radiosity::Trainer trainer(on, geometry, config, run.path, false);
+    EXPECT_EQ(trainer.config().batch, 16384);
+    std::uint32_t non_finite = 0;
+    for (int i = 0; i < 2; ++i) non_finite += trainer.step().non_finite;
+    EXPECT_EQ(non_finite, 0u);
+    for (const float p : trainer.network().mlp().params().read()) ASSERT_TRUE(std::isfinite(p));
+    if (trainer.guide()) {
+      for (const float p : trainer.guide()->mlp().params().read()) ASSERT_TRUE(std::isfinite(p));
+    }
   }
 }
 
