@@ -34,7 +34,11 @@ std::string cache_file() {
 }  // namespace
 
 ProbeCache::ProbeCache(const cl::Context& ctx)
-    : file_(cache_file()), key_(ctx.device().platform_name + " | " + ctx.device().name + " | " + device_driver(ctx)) {
+    // The type and the emulated limits are part of the key: they change the candidates' launch shapes, so a context
+    // that reports itself as a GPU (the tests' GPU-shaped PoCL) must not read a CPU's times of the same device.
+    : file_(cache_file()),
+      key_(ctx.device().platform_name + " | " + ctx.device().name + " | " + device_driver(ctx) + " | " +
+           cl::type_name(ctx.device().type) + (ctx.device().emulated.empty() ? "" : " | " + ctx.device().emulated)) {
   if (file_.empty()) return;
   // The cache is ours, not the user's: one that cannot be read (a damaged file, a FIFO in its place) is probed anew.
   try {

@@ -1,7 +1,8 @@
 #pragma once
 // Timed probes that pick an implementation per device (the GEMM backend and tile, the small-MLP path) and their
-// cache on disk ($XDG_CACHE_HOME/clradiosity/gemm_probe.json, else ~/.cache/...), keyed by device name and driver
-// version: {device key: {candidate: seconds}}. A damaged or unwritable cache costs a re-probe, never a failure.
+// cache on disk ($XDG_CACHE_HOME/clradiosity/gemm_probe.json, else ~/.cache/...), keyed by device name, driver
+// version, the type the device reports and any emulated limits: {device key: {candidate: seconds}}. A damaged or
+// unwritable cache costs a re-probe, never a failure.
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
