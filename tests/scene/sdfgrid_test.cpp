@@ -145,6 +145,19 @@ TEST_F(SdfGrid, SphereMeshIsClosedWithTheSpheresAreaVolumeAndNormals) {
   }
 }
 
+// A surface beyond the triangle budget is refused naming the grid, before its mesh exhausts memory (the default
+// budget, 2^24, is too large to reach in a test: the same check with a budget of 100).
+TEST_F(SdfGrid, SurfaceBeyondTheTriangleBudgetIsRefused) {
+  const auto g = sampled(16, [](const Vec3& p) { return glm::length(p - Vec3(0.5f)) - 0.3f; });
+  EXPECT_GT(scene::mesh_sdf_grid(g, scene::SdfNormals::smooth, "sphere").triangles.size(), 100u);
+  try {
+    scene::mesh_sdf_grid(g, scene::SdfNormals::smooth, "sphere.vol", 0, 100);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "sphere.vol: its surface needs more than 100 triangles");
+  }
+}
+
 // A torus of the corpus scene's proportions (major radius 10 cells, minor 4, on a 40³ grid, distances in cells):
 // closed, its area and volume within the grid's error, and every triangle's centroid near the interpolant's
 // surface; that distance shrinks with the lattice step squared (the chord error): 0.043, 0.014, 0.0068 and 0.0038

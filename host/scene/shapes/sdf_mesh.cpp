@@ -8,6 +8,7 @@
 // centroids lie within 0.004 of a cell of the surface (1e-4 of its 40-sample grid's extent), against 0.043
 // unsplit; the grid's own sampling error (the interpolant of a distance overestimates it between samples by about
 // 1 cell² / 8 × the radius of curvature) is larger, and Mitsuba's as much as ours.
+#include <algorithm>
 #include <unordered_map>
 
 #include "common/error.hpp"
@@ -21,8 +22,12 @@ constexpr int kBisections = 12;  // the root to 2^-12 of an edge, then linearly 
 
 class Mesher {
  public:
-  Mesher(const VolumeGrid& grid, SdfNormals normals, int subdivision)
-      : f_(grid), normals_(normals), k_(subdivision), lattice_((grid.size - 1) * subdivision + 1) {}
+  Mesher(const VolumeGrid& grid, SdfNormals normals, int subdivision, std::size_t max_triangles)
+      : f_(grid),
+        normals_(normals),
+        k_(subdivision),
+        lattice_((grid.size - 1) * subdivision + 1),
+        max_triangles_(max_triangles) {}
 
   Mesh run() {
     const glm::ivec3 cells = f_.scale();
@@ -105,6 +110,8 @@ class Mesher {
     const Vec3 s = f_.scale(), p0 = mesh_.positions[t.x] * s;
     if (glm::dot(glm::cross(mesh_.positions[t.y] * s - p0, mesh_.positions[t.z] * s - p0), outward) < 0)
       std::swap(t.y, t.z);
+    if (mesh_.triangles.size() == max_triangles_)
+      throw InputError("its surface needs more than " + std::to_string(max_triangles_) + " triangles");
     mesh_.triangles.push_back(t);
   }
 
@@ -159,16 +166,27 @@ class Mesher {
   SdfNormals normals_;
   int k_;
   glm::ivec3 lattice_;  // lattice points along each axis
+  std::size_t max_triangles_;
   std::unordered_map<std::uint64_t, std::uint32_t> edges_;
   Mesh mesh_;
 };
 
 }  // namespace
 
-Mesh mesh_sdf_grid(const VolumeGrid& grid, SdfNormals normals, const std::string& what, int subdivision) {
+Mesh mesh_sdf_grid(const VolumeGrid& grid, SdfNormals normals, const std::string& what, int subdivision,
+                   std::size_t max_triangles) {
   if (grid.channels != 1)
     throw InputError(what + ": " + std::to_string(grid.channels) + " channels, but an SDF grid has 1");
-  Mesh m = Mesher(grid, normals, subdivision).run();
+  if (subdivision == 0) {
+    const int cells = std::max({grid.size.x, grid.size.y, grid.size.z}) - 1;
+    subdivision = std::clamp(kSdfLattice / cells, 1, kSdfSubdivision);
+  }
+  Mesh m;
+  try {
+    m = Mesher(grid, normals, subdivision, max_triangles).run();
+  } catch (const InputError& e) {
+    throw InputError(what + ": " + e.what());
+  }
   if (m.triangles.empty())
     throw InputError(what +
                      ": the grid has no zero crossing (no surface: no value below 0, "
