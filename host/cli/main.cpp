@@ -62,7 +62,7 @@ int run(int argc, char** argv) {
   app.require_subcommand(0, 1);
   std::string preset;
   app.add_option("--preset", preset, "The main job (no subcommand) with a budget preset: preview, balanced, quality")
-      ->check(CLI::IsMember(clr::radiosity::preset_names()));
+      ->check(CLI::IsMember(clr::radiosity::budget_preset_names()));
 
   const std::vector<clr::cli::Command> commands = {
       clr::cli::add_devices_command(app), clr::cli::add_compare_command(app), clr::cli::add_reference_command(app),

@@ -123,7 +123,8 @@ Command add_train_command(CLI::App& app) {
   auto* resume = cmd->add_flag("--resume", opt->resume, "Continue the run in RUN_DIR from its checkpoint");
   cmd->add_option("--preset", opt->preset,
                   "preview, balanced or quality: batch, N, width and hash-table size picked for that budget, this "
-                  "scene and device (printed, stored in config.json); flags override it")
+                  "scene and device; paper: the ISNR paper's settings (docs/presets.md). Printed, stored in "
+                  "config.json; flags override it")
       ->check(CLI::IsMember(radiosity::preset_names()))
       ->excludes(resume);
   auto* reference =
