@@ -61,7 +61,7 @@ def results_table(lines, title, runs, paper_rows, paper_scene):
         paper = paper_rows.get(paper_scene, {}).get(PAPER_KEY.get(key, ""), {}) if paper_scene else {}
         memory = run["memory_mib"] / 1024 if run["memory_mib"] is not None else None
         lines.append(
-            f"| {METHODS[key]} | {step} | {number(seconds / 60, '{:.1f}')} | {number(memory, '{:.2f}')} | "
+            f"| {METHODS[key]} | {step} | {number(seconds / 60, '{:.3g}')} | {number(memory, '{:.2f}')} | "
             f"{number(mape, '{:.4f}')} | {number(mse, '{:.3g}')} | {number(paper.get('step'), '{:.0f}')} | "
             f"{number(paper.get('minutes'), '{:.0f}')} | {number(paper.get('memory_gb'), '{:.2f}')} | "
             f"{number(paper.get('mape'), '{:.3f}')} | {number(paper.get('mse'), '{:.3g}')} |")
@@ -78,8 +78,10 @@ def at_step(run, step):
 
 def ablation_table(lines, runs, paper):
     t4 = paper["table4"]
+    # The paper's steps where the runs reach its first; runs shorter than that (a smoke test) at the same shares of
+    # their budget.
     longest = max(r["steps"] for r in runs.values())
-    scale = min(1.0, longest / t4["steps"][-1])  # shorter runs: the same fractions of their budget
+    scale = 1.0 if longest >= t4["steps"][0] else longest / t4["steps"][-1]
     lines += ["#### Table 4: ablation (w/o I-Module = NR, w/o IKL = ISNR (KL), full = ISNR (IKL)); the paper's on "
               + t4["scene"], ""]
     if scale < 1:
@@ -87,8 +89,8 @@ def ablation_table(lines, runs, paper):
                   "budget), its first evaluation at or after that step.", ""]
     keys = [k for k in METHODS if k in runs]
     head = " | ".join(f"MAPE {METHODS[k]}" for k in keys) + " | " + " | ".join(f"MSE {METHODS[k]}" for k in keys)
-    lines += [f"| step | {head} | paper MAPE nr / kl / ikl | paper MSE nr / kl / ikl |",
-              "| ---: | " + " | ".join("---:" for _ in range(2 * len(keys))) + " | ---: | ---: |"]
+    lines += [f"| step | evaluated at | {head} | paper MAPE nr / kl / ikl | paper MSE nr / kl / ikl |",
+              "| ---: | ---: | " + " | ".join("---:" for _ in range(2 * len(keys))) + " | ---: | ---: |"]
     for i, paper_step in enumerate(t4["steps"]):
         step = max(1, round(paper_step * scale))
         cells = [at_step(runs[k], step) for k in keys]
@@ -96,7 +98,8 @@ def ablation_table(lines, runs, paper):
         mses = " | ".join(number(c[3] if c else None, "{:.3g}") for c in cells)
         pm = " / ".join(f"{t4['mape'][k][i]:.4f}" for k in ("nr", "kl", "ikl"))
         ps = " / ".join(f"{t4['mse'][k][i]:.4f}" for k in ("nr", "kl", "ikl"))
-        lines.append(f"| {step} | {mapes} | {mses} | {pm} | {ps} |")
+        evaluated = ", ".join(sorted({str(c[0]) for c in cells if c})) or "—"
+        lines.append(f"| {step} | {evaluated} | {mapes} | {mses} | {pm} | {ps} |")
     lines.append("")
 
 
@@ -134,9 +137,9 @@ def time_to_quality(lines, runs, points):
         cells = []
         for k in keys:
             reached = next((e for e in runs[k]["evals"] if e[2] <= target), None)
-            cells.append(number(reached[1] if reached else None, "{:.1f}"))
+            cells.append(number(reached[1] if reached else None, "{:.3g}"))
         pt, extrapolated = path_tracer_time_to(points, target)
-        cells.append(("~" if extrapolated else "") + number(pt, "{:.1f}"))
+        cells.append(("~" if extrapolated else "") + number(pt, "{:.3g}"))
         lines.append(f"| {target:.4f} | " + " | ".join(cells) + " |")
     lines.append("")
 
@@ -227,7 +230,7 @@ def main(out_dir, paper_file):
             series_steps.append(("path tracer", [], []))  # keeps its colour the same in both panels
             series_seconds.append(("path tracer", [p[0] for p in points], [p[1] for p in points]))
             lines += ["Path tracer (rendering seconds, MAPE): "
-                      + ", ".join(f"{t:.2f} s {m:.4f}" for t, m in points), ""]
+                      + ", ".join(f"{t:.3g} s {m:.4f}" for t, m in points), ""]
         figure = f"{scene}-curves.svg"
         svg_curves(os.path.join(out_dir, figure), f"MAPE during training: {scene}", series_steps, series_seconds)
         lines += [f"![MAPE against steps and seconds]({figure})", ""]

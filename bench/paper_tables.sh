@@ -124,6 +124,10 @@ for s in "$@"; do
     else
       steps=""  # the preset's budget
     fi
+    if [ -z "$steps" ] && [ -z "$preset" ]; then
+      echo "paper_tables.sh: $name is not in the paper and PRESET is empty: give STEPS" >&2
+      exit 2
+    fi
     local label=t$table-$method${loss:+-$loss} dir=$out/runs/$name/t$table-$method${loss:+-$loss}
     local flags=(--method "$method" --samples "$samples" --reference "$ref" --eval-every "$eval_every"
       --eval-spp "$eval_spp")

@@ -127,7 +127,7 @@ Command add_train_command(CLI::App& app) {
                   "config.json; flags override it")
       ->check(CLI::IsMember(radiosity::preset_names()))
       ->excludes(resume);
-  auto* reference =
+  auto* reference_option =
       cmd->add_option("--reference", opt->evaluation.reference,
                       "Log the model's MAPE, MSE and relMSE against this EXR in log.csv every --eval-every steps "
                       "(rendered with the scene's camera at its size, outside the training time) and draw "
@@ -136,19 +136,19 @@ Command add_train_command(CLI::App& app) {
                   "Steps between evaluations against --reference (default: the checkpoint interval; the last "
                   "step is evaluated too)")
       ->check(integer_at_least(1))
-      ->needs(reference);
+      ->needs(reference_option);
   cmd->add_option("--eval-spp", opt->evaluation.spp,
                   "Camera rays per pixel of an evaluation (default 4, as `render`; a resumed run keeps its own)")
       ->check(CLI::Range(1, 1 << 16))
-      ->needs(reference);
-  auto* preview = cmd->add_option("--preview", opt->preview,
-                                  "Keep a small render of the model (PNG, the longer side at most " +
-                                      std::to_string(radiosity::kPreviewSide) +
-                                      " pixels) up to date, every --preview-every steps and at the end");
+      ->needs(reference_option);
+  auto* preview_option = cmd->add_option("--preview", opt->preview,
+                                         "Keep a small render of the model (PNG, the longer side at most " +
+                                             std::to_string(radiosity::kPreviewSide) +
+                                             " pixels) up to date, every --preview-every steps and at the end");
   cmd->add_option("--preview-every", opt->preview_every,
                   "Steps between previews (default: --eval-every's, else the checkpoint interval)")
       ->check(integer_at_least(1))
-      ->needs(preview);
+      ->needs(preview_option);
   add_device_option(*cmd, opt->device);
 
   return {
