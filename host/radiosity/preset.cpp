@@ -95,8 +95,8 @@ std::vector<std::string> apply_paper(TrainConfig& config, const cl::DeviceInfo& 
                 P::width, P::samples, P::learning_rate, P::batch,
                 device.type == cl::DeviceType::Gpu
                     ? ""
-                    : "; on a CPU device these GPU-scale settings make steps of seconds (the CPU defaults are the "
-                      "CPU's scale)");
+                    : "; on a CPU device these GPU-scale settings make steps of seconds (for CPU scale, train without "
+                      "the preset)");
   why.emplace_back(line);
   std::snprintf(line, sizeof line,
                 "hash grid of the cited work (Müller et al. 2022): %zu levels x %zu features, 2^%zu entries, "
