@@ -32,7 +32,7 @@ struct LogRow {
   double guide_loss = 0;
   double guided_share = 0;  // share of incident samples drawn from the I-Module's mixture
   // The model at this step against a reference (train --reference, convergence.hpp); empty columns without one.
-  std::optional<image::Metrics> evaluation;
+  std::optional<image::Metrics> evaluation = std::nullopt;
 };
 
 class RunDirectory {
