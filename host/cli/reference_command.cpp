@@ -31,6 +31,7 @@ Command add_reference_command(CLI::App& app) {
          "Longest path in segments; -1: unbounded (default: the scene integrator's max_depth, else -1)")
       ->check(CLI::Range(-1, 1 << 20));
   cmd->add_option("--seed", opt->render.seed, "Random seed")->check(integer_at_least(0));
+  add_threads_option(*cmd);
   cmd->add_option("-o,--output", opt->output, "Output EXR")->required();
 
   return {

@@ -1,5 +1,6 @@
 #include "radiosity/run_directory.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -93,9 +94,13 @@ double logged_seconds(const fs::path& log_file) {
   return seconds;
 }
 
-void write_model(const fs::path& dir, const TrainConfig& config, const nn::Network& network, const nn::Network* guide) {
+constexpr const char* kGuideBefore = "guide_before.";
+
+void write_model(const fs::path& dir, const TrainConfig& config, const nn::Network& network, const nn::Network* guide,
+                 const nn::Network* guide_before = nullptr) {
   nn::Checkpoint c = network.checkpoint(std::to_string(config.seed));
   if (guide) guide->add_tensors(c, "guide.");
+  if (guide_before) guide_before->add_parameter_tensors(c, kGuideBefore);
   nn::write_checkpoint(RunDirectory::model_path(dir).string(), c);
 }
 
@@ -207,8 +212,9 @@ void RunDirectory::replace_last_log_row(const LogRow& r) const {
   write_text_atomically(log_path(dir_), text + log_line(r));
 }
 
-void RunDirectory::save_model(const nn::Network& network, const nn::Network* guide) const {
-  write_model(dir_, config_, network, guide);
+void RunDirectory::save_model(const nn::Network& network, const nn::Network* guide,
+                              const nn::Network* guide_before) const {
+  write_model(dir_, config_, network, guide, guide_before);
 }
 
 void RunDirectory::write_snapshot(const fs::path& dir, const TrainConfig& config, const nn::Network& network,
@@ -253,6 +259,19 @@ std::unique_ptr<nn::Network> RunDirectory::load_guide(cl::Context& ctx, const fs
     throw InputError(file.string() + ": guide: " + e.what());
   }
   return load_network(ctx, model_path(run), guide_config, "guide.");
+}
+
+std::unique_ptr<nn::Network> RunDirectory::load_guide_before(cl::Context& ctx, const fs::path& run,
+                                                             const nn::NetworkConfig& guide) {
+  const std::string file = model_path(run).string();
+  const nn::Checkpoint c = nn::read_checkpoint(file);
+  const auto has = [&](const std::string& name) {
+    return std::any_of(c.tensors.begin(), c.tensors.end(), [&](const auto& t) { return t.first == name; });
+  };
+  if (!has(std::string(kGuideBefore) + "mlp.params")) return nullptr;
+  auto network = std::make_unique<nn::Network>(ctx, guide);
+  network->restore_parameters(c, file, kGuideBefore);
+  return network;
 }
 
 }  // namespace clr::radiosity

@@ -64,8 +64,10 @@ class RunDirectory {
   // Replaces log.csv's last row by `row` (atomically: the whole file is rewritten): the run's last step, logged
   // before anyone knew it was the last, gains its evaluation.
   void replace_last_log_row(const LogRow& row) const;
-  // model.clr, written atomically: the previous one stays intact until the new one is complete.
-  void save_model(const nn::Network& network, const nn::Network* guide) const;
+  // model.clr, written atomically: the previous one stays intact until the new one is complete. `guide_before`: the
+  // lagged guide's I-Module before its last update (parameters only), which the next step draws from.
+  void save_model(const nn::Network& network, const nn::Network* guide,
+                  const nn::Network* guide_before = nullptr) const;
   // The networks as they are now, as a run directory of their own (config.json + model.clr) that render, residual
   // and guide read: a sweep's snapshot of the run at one budget.
   void write_snapshot(const std::filesystem::path& dir, const TrainConfig& config, const nn::Network& network,
@@ -83,6 +85,10 @@ class RunDirectory {
   // The I-Module of an ISNR run: its config from config.json, its tensors from model.clr. InputError when the run
   // was trained without one (method nr) or its files are missing or damaged.
   static std::unique_ptr<nn::Network> load_guide(cl::Context& ctx, const std::filesystem::path& run);
+  // The lagged guide's I-Module before its last update, where model.clr holds it (null where it does not: a run
+  // without the lag, or written before it existed), as a network of the guide's config.
+  static std::unique_ptr<nn::Network> load_guide_before(cl::Context& ctx, const std::filesystem::path& run,
+                                                        const nn::NetworkConfig& guide);
   // The run's settings as saved (InputError naming the file when it is missing or malformed).
   static TrainConfig load_config(const std::filesystem::path& run);
   // The training time of every session of `run` (a run directory or its model.clr): log.csv's last row.
