@@ -74,6 +74,12 @@ print(x1 - x0 + 1, y1 - y0 + 1)
 PY
 }
 
+# failed LABEL DIR: a training that exited with an error ends the script, with its last line.
+failed() {
+  echo "paper_tables.sh: $name $1 failed: $(tail -n 1 "$2.err") (all of it: $2.err)" >&2
+  exit 1
+}
+
 for s in "$@"; do
   if [ -d "$s" ]; then scene=$s/scene.xml scene_dir=$s; else scene=$s scene_dir=$(dirname "$s"); fi
   name=$(basename "$scene_dir")
@@ -140,12 +146,13 @@ for s in "$@"; do
     if [ -f "$dir/model.clr" ]; then
       echo "== $name $label: resuming"
       [ -n "$steps" ] || flags+=(--steps "$(pyjson "$dir/config.json" "d['steps']")")
-      "$bin" train "$scene" --resume "${flags[@]}" "${train_flags[@]}" -o "$dir" >"$dir.out" 2>"$dir.err"
+      "$bin" train "$scene" --resume "${flags[@]}" "${train_flags[@]}" -o "$dir" >"$dir.out" 2>"$dir.err" ||
+        failed "$label" "$dir"
     else
       echo "== $name $label: training${steps:+ $steps steps}"
       rm -rf "$dir"
       "$bin" train "$scene" ${preset:+--preset "$preset"} "${flags[@]}" "${train_flags[@]}" -o "$dir" \
-        >"$dir.out" 2>"$dir.err"
+        >"$dir.out" 2>"$dir.err" || failed "$label" "$dir"
     fi
     local memory
     memory=$(sed -n 's/^peak device memory: \([0-9.e+]*\) MiB$/\1/p' "$dir.out" | tail -n 1)

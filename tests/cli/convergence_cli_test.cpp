@@ -112,6 +112,19 @@ TEST_F(ConvergenceCli, LoggedErrorIsCompareOfARenderOfTheCheckpoint) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(text_of(plain / "model.clr"), text_of(run / "model.clr"));
   EXPECT_FALSE(fs::exists(plain / "convergence.svg")) << "no evaluation, no figure";
+
+  // So too where the next step's guided directions are drawn during this one (the lagged guide): an evaluation
+  // between the two leaves them alone.
+  auto lagged = nlohmann::json::parse(text_of(config));
+  lagged["guide_lag"] = 1;
+  const std::string lagged_config = (dir / "lagged.json").string();
+  std::ofstream(lagged_config) << lagged.dump();
+  for (const std::string& watch : {std::string(), " --reference " + reference + " --eval-every 3 --eval-spp 1"}) {
+    r = run_cli("train " + kBox + " --steps 12 --config " + lagged_config + watch + " -o " +
+                (dir / (watch.empty() ? "lag_plain" : "lag_watched")).string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  EXPECT_EQ(text_of(dir / "lag_plain" / "model.clr"), text_of(dir / "lag_watched" / "model.clr"));
 }
 
 TEST_F(ConvergenceCli, ResumedRunContinuesTheColumns) {
