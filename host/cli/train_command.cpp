@@ -1,5 +1,5 @@
 // clradiosity train SCENE.xml [--method isnr|nr] [--is-loss ikl|kl] [--bsdf-fraction C] [--samples N] [--batch M]
-//                  [--steps S | --minutes T] [--preset preview|balanced|quality] [--seed K] [--config FILE.json]
+//                  [--steps S | --minutes T] [--preset preview|balanced|quality|paper] [--seed K] [--config FILE.json]
 //                  [--reference REF.exr [--eval-every S] [--eval-spp K]] [--preview FILE.png [--preview-every S]]
 //                  [--resume] -o RUN_DIR
 #include <cmath>
