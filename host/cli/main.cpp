@@ -94,7 +94,7 @@ int run(int argc, char** argv) {
   app.require_subcommand(0, 1);
   std::string preset;
   app.add_option("--preset", preset, "The main job (no subcommand) with a budget preset: preview, balanced, quality")
-      ->check(CLI::IsMember(clr::radiosity::preset_names()));
+      ->check(CLI::IsMember(clr::radiosity::budget_preset_names()));
   clr::cli::add_threads_option(app);
 
   const std::vector<clr::cli::Command> commands = {

@@ -314,8 +314,18 @@ void Trainer::run(const RunOptions& options) {
   // Ranks agree on stopping and on the budget spent (the learning rate follows it), or their models would part.
   const distributed::Communicator& ranks = exchange_.communicator();
   double lr_scale = 1;
+  long last_evaluated = -1;
+  LogRow last_row;  // the row last written, for the run's final evaluation when no row follows it
+  // The model's figures for `now`'s row, timed out of the training time.
+  const auto evaluation = [&](long now) {
+    const auto evaluate_start = std::chrono::steady_clock::now();
+    const image::Metrics m = options.evaluate();
+    outside_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - evaluate_start).count();
+    last_evaluated = now;
+    return m;
+  };
   // One row of log.csv over the steps since the last one.
-  const auto log_row = [&](long now) {
+  const auto log_row = [&](long now, bool evaluate) {
     nn::LossValue v = loss_.take();
     nn::LossValue g = guide_ ? incident_.vmf().take() : nn::LossValue{0, 0};
     // Incident terms dropped while forming the right-hand side count too: they never reach the loss, so the
@@ -335,17 +345,18 @@ void Trainer::run(const RunOptions& options) {
     }
     loss_sum = v.loss / double(loss_steps);
     const double samples = double(loss_steps * config_.batch * config_.samples);
-    if (run_)
-      run_->append_log(
-          {.step = now,
-           .seconds = seconds_before_ + elapsed(),
-           .loss = loss_sum,
-           .lookups = double(lookups) / samples,
-           .non_finite = v.non_finite + g.non_finite + rhs_dropped,
-           .learning_rate = lr_scale * double(network_->config().adam.learning_rate_at(std::uint64_t(now))),
-           .residual_power = double(residual_power_),
-           .guide_loss = g.loss / double(loss_steps),
-           .guided_share = double(guided) / samples});
+    last_row = {.step = now,
+                .seconds = seconds_before_ + elapsed(),
+                .loss = loss_sum,
+                .lookups = double(lookups) / samples,
+                .non_finite = v.non_finite + g.non_finite + rhs_dropped,
+                .learning_rate = lr_scale * double(network_->config().adam.learning_rate_at(std::uint64_t(now))),
+                .residual_power = double(residual_power_),
+                .guide_loss = g.loss / double(loss_steps),
+                .guided_share = double(guided) / samples,
+                .evaluation = std::nullopt};
+    if (evaluate) last_row.evaluation = evaluation(now);
+    if (run_) run_->append_log(last_row);
     char detail[128];
     std::snprintf(detail, sizeof detail, "step %ld  loss %.4g  %.2f steps/s", now, loss_sum,
                   double(now - first_step) / std::max(1e-9, elapsed()));
@@ -369,7 +380,11 @@ void Trainer::run(const RunOptions& options) {
     guided += stats.guided;
     ++loss_steps;
     const long now = long(network_->steps());
-    if (now % config_.log_every == 0) log_row(now);
+    // The last step is known here for a step budget (and for a time budget spent already): its row carries the
+    // final evaluation.
+    const bool evaluate_now = options.evaluate && ((options.evaluate_every > 0 && now % options.evaluate_every == 0) ||
+                                                   (!stop_requested() && spent() >= 1.0));
+    if (now % config_.log_every == 0 || evaluate_now) log_row(now, evaluate_now);
     if (now % kRankCheckEvery == 0) check_ranks_agree(std::uint64_t(now));
     if (now % config_.checkpoint_every == 0) save_checkpoint();
     const double iteration_s = elapsed() - iteration_start;
@@ -388,7 +403,15 @@ void Trainer::run(const RunOptions& options) {
   seconds_this_session_ = elapsed();
   // The steps since the last row get one too, so that log.csv's time axis ends where the training did: a resumed
   // run (and a sweep's budget in total) starts from it.
-  if (loss_steps > 0) log_row(long(network_->steps()));
+  const long end = long(network_->steps());
+  const bool evaluate_end = options.evaluate && !stop_requested() && last_evaluated != end && end > first_step;
+  if (loss_steps > 0) {
+    log_row(end, evaluate_end);
+  } else if (evaluate_end && run_) {
+    // A time budget ran out after a row was logged at its last step: that row gains the evaluation.
+    last_row.evaluation = evaluation(end);
+    run_->replace_last_log_row(last_row);
+  }
   check_ranks_agree(network_->steps());
   save_checkpoint();
   progress.finish(last + (stop_requested() ? "  (stopped by signal; checkpoint written)" : ""));

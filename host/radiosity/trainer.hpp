@@ -66,6 +66,11 @@ class Trainer {
     // Called after every step with the run's training seconds so far (earlier sessions included). The time spent
     // in it does not count as training time, so writing a snapshot from it costs the run nothing.
     std::function<void(double seconds)> after_step;
+    // Called at every `evaluate_every`-th step and at the run's last step (not after a stop signal); its figures
+    // go into that step's log.csv row, which is logged whatever log_every says (convergence.hpp: train
+    // --reference). Its time, like after_step's, is not training time.
+    long evaluate_every = 0;
+    std::function<image::Metrics()> evaluate;
   };
   // Trains until the step or time budget is spent or a stop signal arrives; checkpoints at the end.
   void run(const RunOptions& options);
