@@ -27,6 +27,7 @@ Command add_render_command(CLI::App& app);
 Command add_residual_command(CLI::App& app);
 Command add_guide_command(CLI::App& app);
 Command add_sweep_command(CLI::App& app);
+Command add_export_command(CLI::App& app);
 
 // `clradiosity` without a subcommand: train and render the bundled Cornell box (README's first command) for
 // `minutes`, or with a preset's settings and budget.

@@ -100,7 +100,7 @@ int run(int argc, char** argv) {
   const std::vector<clr::cli::Command> commands = {
       clr::cli::add_devices_command(app), clr::cli::add_compare_command(app), clr::cli::add_reference_command(app),
       clr::cli::add_train_command(app),   clr::cli::add_render_command(app),  clr::cli::add_residual_command(app),
-      clr::cli::add_guide_command(app),   clr::cli::add_sweep_command(app),
+      clr::cli::add_guide_command(app),   clr::cli::add_sweep_command(app),   clr::cli::add_export_command(app),
   };
 
   std::string command;  // names the options to lower when memory runs out

@@ -232,11 +232,13 @@ std::size_t grid_parameter_count(const NetworkConfig& c) {
   return entries * c.encoder.grid->features;
 }
 
+std::size_t encoded_columns(const EncoderConfig& e) {
+  return (e.grid ? e.grid->levels * e.grid->features : 0) + (e.sh_direction ? 16 : 0) + (e.sh_normal ? 16 : 0) +
+         (e.albedo ? 3 : 0) + (e.roughness ? 1 : 0);
+}
+
 std::size_t mlp_parameter_count(const NetworkConfig& c) {
-  // Encoder columns as Encoder lays them out: grid features, SH of ω_o and of n (16 each), albedo, roughness.
-  const auto& e = c.encoder;
-  const std::size_t inputs = (e.grid ? e.grid->levels * e.grid->features : 0) + (e.sh_direction ? 16 : 0) +
-                             (e.sh_normal ? 16 : 0) + (e.albedo ? 3 : 0) + (e.roughness ? 1 : 0);
+  const std::size_t inputs = encoded_columns(c.encoder);
   std::size_t total = 0;
   for (std::size_t l = 0; l <= c.hidden_layers; ++l) {
     const std::size_t in = l == 0 ? inputs : c.width, out = l == c.hidden_layers ? c.outputs : c.width;

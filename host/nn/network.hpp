@@ -43,6 +43,9 @@ nlohmann::json to_json(const NetworkConfig& c);
 // The MLP's and the hash-grid table's parameter counts for a config, without building anything (a checkpoint's
 // tensors are checked against them before its config allocates device memory). Network::parameter_count's twin.
 std::size_t mlp_parameter_count(const NetworkConfig& c);
+// The encoder's output columns (the MLP's inputs) for a config, as Encoder lays them out: grid features, SH of ω_o
+// and of n (16 each), albedo (3), roughness (1).
+std::size_t encoded_columns(const EncoderConfig& e);
 std::size_t grid_parameter_count(const NetworkConfig& c);
 NetworkConfig network_config_from_json(const nlohmann::json& j);  // throws InputError naming a bad entry
 // `base` with a JSON merge patch (RFC 7396) applied: a user's overrides of a module's defaults.

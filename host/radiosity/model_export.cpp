@@ -1,0 +1,86 @@
+#include "radiosity/model_export.hpp"
+
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "common/error.hpp"
+#include "common/input_file.hpp"
+#include "nn/checkpoint.hpp"
+#include "nn/export.hpp"
+#include "nn/network.hpp"
+#include "radiosity/run_directory.hpp"
+
+namespace clr::radiosity {
+namespace fs = std::filesystem;
+
+namespace {
+
+bool has(const nn::Checkpoint& c, const std::string& name) {
+  for (const auto& t : c.tensors)
+    if (t.first == name) return true;
+  return false;
+}
+
+// A config from JSON, its faults named with `where`.
+nn::NetworkConfig network_config(const nlohmann::json& j, const std::string& where) {
+  try {
+    return nn::network_config_from_json(j);
+  } catch (const InputError& e) {
+    throw InputError(where + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+nn::SafeTensors export_model(const fs::path& run, bool optimizer_state) {
+  if (!fs::exists(run)) throw InputError("run " + run.string() + " not found");
+  const fs::path model = fs::is_directory(run) ? RunDirectory::model_path(run) : run;
+  const fs::path dir = fs::is_directory(run) ? run : run.parent_path();
+  const nn::Checkpoint c = nn::read_checkpoint(model.string());
+  const std::string file = model.string();
+  const nn::NetworkConfig radiance =
+      network_config(parse_json(c.config_json, "the network config of checkpoint " + file), "checkpoint " + file);
+
+  // The run's own settings: the I-Module's config lives there, not in the checkpoint.
+  nlohmann::json settings;
+  if (fs::exists(RunDirectory::config_path(dir)))
+    settings = read_json_file(RunDirectory::config_path(dir), "run config");
+  const bool guided = has(c, "guide.mlp.params");
+  std::optional<nn::NetworkConfig> guide;
+  if (guided) {
+    if (!settings.is_object() || !settings.contains("guide"))
+      throw InputError("checkpoint " + file + " holds an I-Module, but " + RunDirectory::config_path(dir).string() +
+                       " (its config) is missing or has no 'guide'");
+    guide = network_config(settings.at("guide"), RunDirectory::config_path(dir).string() + ": guide");
+  }
+
+  nn::SafeTensors out;
+  std::set<std::string> taken;
+  nlohmann::ordered_json networks = nlohmann::ordered_json::object();
+  nn::add_network_tensors(c, file, radiance, "", optimizer_state, out, taken);
+  networks["n_module"] = nn::describe_network(radiance, "");
+  if (guide) {
+    nn::add_network_tensors(c, file, *guide, "guide.", optimizer_state, out, taken);
+    networks["i_module"] = nn::describe_network(*guide, "guide.");
+    if (has(c, "guide_before.mlp.params")) {
+      // Parameters only: the copy is evaluated, never trained (radiosity/trainer.hpp's lagged guide).
+      nn::add_network_tensors(c, file, *guide, "guide_before.", false, out, taken);
+      networks["i_module_before_update"] = nn::describe_network(*guide, "guide_before.");
+    }
+  }
+  // A tensor of a kind this export does not know is still exported, flat under its own name: nothing is lost.
+  for (const auto& [name, values] : c.tensors)
+    if (!taken.contains(name)) out.tensors.push_back({name, {values.size()}, values});
+
+  out.metadata["format"] = "clradiosity-model";
+  out.metadata["format_version"] = "1";
+  out.metadata["producer"] = std::string("clradiosity ") + CLR_VERSION;
+  out.metadata["step"] = std::to_string(c.step);
+  out.metadata["networks"] = networks.dump();
+  if (settings.is_object()) out.metadata["train_config"] = settings.dump();
+  if (fs::exists(RunDirectory::scene_path(dir)))
+    out.metadata["scene"] = read_json_file(RunDirectory::scene_path(dir), "run scene record").dump();
+  return out;
+}
+
+}  // namespace clr::radiosity
