@@ -7,6 +7,7 @@
 
 #include "cl/context.hpp"
 #include "cli/command.hpp"
+#include "cli/data_files.hpp"
 #include "common/run_lock.hpp"
 #include "common/stop_signal.hpp"
 #include "geometry/geometry.hpp"
@@ -21,7 +22,7 @@ namespace clr::cli {
 namespace fs = std::filesystem;
 
 int run_main_job(double minutes, const std::string& preset) {
-  const fs::path scene_path = fs::path(CLR_SCENES_DIR) / "cornell-box.xml";
+  const fs::path scene_path = bundled_scenes_dir() / "cornell-box.xml";
   const fs::path out = fs::absolute("clradiosity-out");
   const fs::path run = out / "cornell-box-run";
   // One main job per folder: a second one would delete the first's run below while it trains.
