@@ -6,6 +6,7 @@
 #include "cli/command.hpp"
 #include "common/atomic_file.hpp"
 #include "image/image.hpp"
+#include "image/image_format.hpp"
 
 namespace clr::cli {
 
@@ -24,6 +25,7 @@ Command add_compare_command(CLI::App& app) {
   cmd->add_option("--error-map", opt->error_map, "Write a false-colour relative-error map (PNG; red = 100 %)");
 
   return {cmd, [opt]() {
+            image::output_format(opt->error_map, "--error-map", {image::Format::Png});
             require_outputs({{opt->error_map, "--error-map"}}, {opt->image, opt->reference});
             const auto img = image::read_exr(opt->image);
             const auto ref = image::match_size(image::read_exr(opt->reference), img);

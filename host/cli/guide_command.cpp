@@ -9,6 +9,7 @@
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "geometry/geometry.hpp"
+#include "image/image_format.hpp"
 #include "radiosity/guide/guide_view.hpp"
 #include "radiosity/run_directory.hpp"
 #include "radiosity/trained_model.hpp"
@@ -53,7 +54,8 @@ Command add_guide_command(CLI::App& app) {
       ->expected(2)
       ->required();
   cmd->add_option("-o,--output", opt->output,
-                  "PNG: lat-long maps about the normal, q (left) and the target f·cos·L_i/F (right), log scale")
+                  "Lat-long maps about the normal, q (left) and the target f·cos·L_i/F (right): .png on one log scale, "
+                  ".exr as densities per steradian")
       ->required();
   cmd->add_option("--exr", opt->exr, "Also write both maps as densities per steradian (EXR)");
   cmd->add_option("--width", opt->width, "Image width the pixel refers to (default: the scene's film)")
@@ -64,6 +66,8 @@ Command add_guide_command(CLI::App& app) {
   add_device_option(*cmd, opt->device);
 
   return {cmd, [opt]() {
+            const auto format = image::output_format(opt->output, "-o", {image::Format::Png, image::Format::Exr});
+            image::output_format(opt->exr, "--exr", {image::Format::Exr});
             const auto scene = scene::load_scene(opt->scene);
             const int width = opt->width > 0 ? opt->width : scene.camera.width;
             const int height = opt->height > 0 ? opt->height : scene.camera.height;
@@ -82,7 +86,8 @@ Command add_guide_command(CLI::App& app) {
             auto guide = radiosity::RunDirectory::load_guide(ctx, run);
             const auto view = radiosity::view_guide(ctx, geometry, *radiance, *guide, std::floor(px) + 0.5f,
                                                     std::floor(py) + 0.5f, width, height, opt->resolution);
-            image::write_png(opt->output, side_by_side(view, true));
+            // A PNG shows both maps on one log scale; an EXR holds them as densities (what --exr writes).
+            image::write_image(opt->output, side_by_side(view, format == image::Format::Png), format);
             if (!opt->exr.empty()) image::write_exr(opt->exr, side_by_side(view, false));
             std::printf(
                 "guide: %s%s  KL(p||q) %.4g  q's mass where the target is lit %.4g  (lit: %.4g of the sphere)\n",

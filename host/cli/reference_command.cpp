@@ -8,6 +8,7 @@
 #include "common/digest.hpp"
 #include "distributed/image_rows.hpp"
 #include "geometry/geometry.hpp"
+#include "image/image_format.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/fingerprint.hpp"
 
@@ -32,12 +33,14 @@ Command add_reference_command(CLI::App& app) {
       ->check(CLI::Range(-1, 1 << 20));
   cmd->add_option("--seed", opt->render.seed, "Random seed")->check(integer_at_least(0));
   add_threads_option(*cmd);
-  cmd->add_option("-o,--output", opt->output, "Output EXR")->required();
+  cmd->add_option("-o,--output", opt->output, "Output image: .exr (linear) or .png (sRGB), by its extension")
+      ->required();
 
   return {
       cmd, [opt]() {
         // Under mpirun the ranks share the rows and rank 0 alone writes the image.
         const auto& ranks = distributed::Communicator::world();
+        const auto format = image::output_format(opt->output, "-o");
         const scene::Scene scene = scene::load_scene(opt->scene);
         ranks.require_same("the scenes (the contents of their files)",
                            Digest().add(scene::fingerprint(scene).digest).value());
@@ -56,7 +59,7 @@ Command add_reference_command(CLI::App& app) {
         stats.non_finite = std::uint64_t(totals[2]);
         stats.seconds = ranks.max(stats.seconds);
         if (ranks.rank() != 0) return 0;
-        image::write_exr(opt->output, img);
+        image::write_image(opt->output, img, format);
         std::printf(
             "%s: %dx%d, %d spp, %.3f s, %.2f Msamples/s, %.2f Mrays/s%s\n", opt->output.c_str(), img.width, img.height,
             opt->render.spp, stats.seconds, double(stats.paths) / stats.seconds * 1e-6,

@@ -18,6 +18,7 @@
 #include "common/stop_signal.hpp"
 #include "geometry/geometry.hpp"
 #include "image/image.hpp"
+#include "image/image_format.hpp"
 #include "radiosity/run_directory.hpp"
 #include "radiosity/trained_model.hpp"
 #include "scene/fingerprint.hpp"
@@ -120,7 +121,7 @@ int render_image(Options& opt, scene::Scene& scene) {
   std::optional<image::Image> reference;
   if (!opt.reference.empty()) reference = image::read_exr(opt.reference);
   const auto img = radiosity::render(geometry, radiosity::radiance_query(ctx, *network), opt.settings);
-  image::write_exr(opt.output, img);
+  image::write_image(opt.output, img, image::output_format(opt.output, "-o"));
   if (!opt.png.empty()) image::write_png(opt.png, img);
   std::cout << "image: " << opt.output << (opt.png.empty() ? "" : ", " + opt.png) << "\n";
   if (reference) {
@@ -139,7 +140,8 @@ Command add_render_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("render", "Render a scene from a trained model: Le + L_α at the first non-delta hit");
   cmd->add_option("scene", opt->scene, "Mitsuba scene (XML)")->required();
   cmd->add_option("--model", opt->model, "Run directory written by `train` (or a model.clr file)")->required();
-  cmd->add_option("-o,--output", opt->output, "Output image (EXR), or with --path/--orbit the frames' folder")
+  cmd->add_option("-o,--output", opt->output,
+                  "Output image (.exr or .png, by its extension), or with --path/--orbit the frames' folder")
       ->required();
   cmd->add_option("--png", opt->png, "Also write a tonemapped sRGB PNG (with --path/--orbit: a flag, one per frame)")
       ->expected(0, 1);
@@ -192,6 +194,9 @@ Command add_render_command(CLI::App& app) {
               throw InputError("--png takes no file name with --path or --orbit (each frame gets its PNG)");
             if (!opt->reference.empty() && opt->error_map.empty())
               opt->error_map = std::filesystem::path(opt->output).replace_extension().string() + "_error.png";
+            if (!frames) image::output_format(opt->output, "-o");
+            image::output_format(opt->png, "--png", {image::Format::Png});
+            image::output_format(opt->error_map, "--error-map", {image::Format::Png});
             auto scene = scene::load_scene(opt->scene);
             auto inputs = radiosity::RunDirectory::input_files(opt->model);
             inputs.insert(inputs.end(), scene.files.begin(), scene.files.end());

@@ -21,6 +21,7 @@
 #include "distributed/communicator.hpp"
 #include "geometry/geometry.hpp"
 #include "image/image.hpp"
+#include "image/image_format.hpp"
 #include "radiosity/convergence.hpp"
 #include "radiosity/preset.hpp"
 #include "radiosity/run_directory.hpp"
@@ -209,6 +210,7 @@ Command add_train_command(CLI::App& app) {
                                 RunFiles::model_path(opt->run_dir), RunFiles::scene_path(opt->run_dir),
                                 RunFiles::evaluation_path(opt->run_dir), RunFiles::convergence_path(opt->run_dir)})
             inputs.push_back(f);
+          image::output_format(opt->preview, "--preview", {image::Format::Png});
           require_outputs({{opt->preview, "--preview"}}, inputs);
           if (evaluate) reference = radiosity::read_evaluation_reference(opt->evaluation.reference, scene.camera);
         }

@@ -1,0 +1,95 @@
+// The command-line habits Mitsuba and pbrt users bring (docs/cli.md): an image output's format from its extension.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "support/cli_run_dir.hpp"
+#include "support/run_cli.hpp"
+
+namespace clr::test {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+const std::string kBox = (fs::path(CLR_SOURCE_DIR) / "scenes" / "cornell-box.xml").string();
+
+class HabitsCli : public CliRunDir {
+ protected:
+  HabitsCli() : CliRunDir("habits_cli") {}
+  fs::path train() {
+    const fs::path run = dir / "run";
+    const auto r = run_cli("train " + kBox + " --steps 5 --config " + config + " -o " + run.string());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return run;
+  }
+};
+
+// The first bytes: EXR's magic number, or PNG's signature.
+std::string kind(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  char b[4] = {};
+  in.read(b, 4);
+  if (std::string(b, 4) == std::string("\x76\x2f\x31\x01", 4)) return "exr";
+  if (std::string(b + 1, 3) == "PNG") return "png";
+  return fs::exists(p) ? "other" : "missing";
+}
+
+void expect_refused(const std::string& args, const std::string& option) {
+  const auto r = run_cli(args);
+  EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+  EXPECT_THAT(r.err, HasSubstr(option + " ")) << args;
+  EXPECT_THAT(r.err, HasSubstr("the extension names the image format")) << args;
+}
+
+TEST_F(HabitsCli, ReferencePicksItsFormatFromTheExtension) {
+  const std::string base = "reference " + kBox + " --spp 1 --width 8 --height 8 -o ";
+  for (const auto& [name, expected] : {std::pair{"a.exr", "exr"}, {"b.png", "png"}, {"c.PNG", "png"}}) {
+    const auto r = run_cli(base + (dir / name).string());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(kind(dir / name), expected) << name;
+  }
+  for (const char* name : {"d.jpg", "e", "f.exr.tmp"}) {
+    expect_refused(base + (dir / name).string(), "-o");
+    EXPECT_EQ(kind(dir / name), "missing") << name;
+  }
+  // Devices have no extension: written through, as EXR.
+  EXPECT_EQ(run_cli(base + "/dev/null").exit_code, 0);
+}
+
+TEST_F(HabitsCli, EveryImageOutputIsCheckedBeforeTheWork) {
+  const fs::path run = train();
+  const std::string render = "render " + kBox + " --model " + run.string() + " --width 8 --height 8 ";
+  EXPECT_EQ(run_cli(render + "-o " + (dir / "r.png").string()).exit_code, 0);
+  EXPECT_EQ(kind(dir / "r.png"), "png");
+  EXPECT_EQ(run_cli(render + "-o " + (dir / "r.exr").string()).exit_code, 0);
+  EXPECT_EQ(kind(dir / "r.exr"), "exr");
+  // Before the model is read: a run that does not exist is not what the line names.
+  expect_refused("render " + kBox + " --model " + (dir / "none").string() + " -o " + (dir / "r.tif").string(), "-o");
+  expect_refused(render + "-o " + (dir / "s.exr").string() + " --png " + (dir / "s.exr").string(), "--png");
+  expect_refused(render + "-o " + (dir / "t.exr").string() + " --reference " + (dir / "r.exr").string() +
+                     " --error-map " + (dir / "t.exr").string(),
+                 "--error-map");
+  EXPECT_EQ(kind(dir / "s.exr"), "missing");
+  EXPECT_EQ(kind(dir / "t.exr"), "missing");
+
+  const std::string guide =
+      "guide " + kBox + " --model " + run.string() + " --pixel 4,4 --width 8 --height 8 " + "--resolution 8 -o ";
+  EXPECT_EQ(run_cli(guide + (dir / "g.exr").string()).exit_code, 0);
+  EXPECT_EQ(kind(dir / "g.exr"), "exr");
+  expect_refused(guide + (dir / "g.bmp").string(), "-o");
+  expect_refused(guide + (dir / "h.png").string() + " --exr " + (dir / "h.png").string(), "--exr");
+  expect_refused("compare " + (dir / "r.exr").string() + " " + (dir / "r.exr").string() + " --error-map " +
+                     (dir / "m.jpg").string(),
+                 "--error-map");
+  expect_refused("train " + kBox + " --steps 1 --config " + config + " --preview " + (dir / "p.exr").string() + " -o " +
+                     (dir / "run2").string(),
+                 "--preview");
+  EXPECT_FALSE(fs::exists(dir / "run2" / "model.clr")) << "trained before refusing --preview";
+}
+
+}  // namespace
+}  // namespace clr::test
