@@ -2,6 +2,7 @@
 // Each subcommand registers itself on the CLI11 app and returns the function that runs it after parsing.
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <map>
 #include <string>
 
 namespace clr::cli {
@@ -16,6 +17,9 @@ struct Command {
 void add_device_option(CLI::App& cmd, std::string& spec);
 // Adds --threads N (CLRADIOSITY_THREADS): caps the host's worker pool and a PoCL device's threads.
 void add_threads_option(CLI::App& cmd);
+// Adds -D key=value (repeatable), Mitsuba's: fills the scene's $key where its file reads one, over its <default>.
+// The values become part of the scene's fingerprint (runs and sweeps record them).
+void add_scene_parameters_option(CLI::App& cmd, std::map<std::string, std::string>& parameters);
 // Applies --threads or CLRADIOSITY_THREADS (InputError naming a malformed value), before any OpenCL call.
 void apply_thread_count();
 

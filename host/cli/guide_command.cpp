@@ -41,6 +41,7 @@ image::Image side_by_side(const radiosity::GuideView& v, bool log_scale) {
 Command add_guide_command(CLI::App& app) {
   struct Options {
     std::string scene, model, output, exr, device;
+    std::map<std::string, std::string> parameters;
     std::vector<float> pixel;
     int width = 0, height = 0, resolution = 128;
   };
@@ -64,11 +65,12 @@ Command add_guide_command(CLI::App& app) {
   cmd->add_option("--resolution", opt->resolution, "Rows of each lat-long map (default 128; twice as many columns)")
       ->check(CLI::Range(8, 2048));
   add_device_option(*cmd, opt->device);
+  add_scene_parameters_option(*cmd, opt->parameters);
 
   return {cmd, [opt]() {
             const auto format = image::output_format(opt->output, "-o", {image::Format::Png, image::Format::Exr});
             image::output_format(opt->exr, "--exr", {image::Format::Exr});
-            const auto scene = scene::load_scene(opt->scene);
+            const auto scene = scene::load_scene(opt->scene, opt->parameters);
             const int width = opt->width > 0 ? opt->width : scene.camera.width;
             const int height = opt->height > 0 ? opt->height : scene.camera.height;
             const float px = opt->pixel[0], py = opt->pixel[1];

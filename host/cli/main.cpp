@@ -25,6 +25,23 @@ void add_device_option(CLI::App& cmd, std::string& spec) {
   add_threads_option(cmd);
 }
 
+void add_scene_parameters_option(CLI::App& cmd, std::map<std::string, std::string>& parameters) {
+  cmd.add_option_function<std::vector<std::string>>(
+         "-D",
+         [&parameters](const std::vector<std::string>& given) {
+           for (const auto& item : given) {
+             const auto eq = item.find('=');
+             if (eq == std::string::npos || eq == 0)
+               throw CLI::ValidationError("-D", "'" + item + "' is not key=value");
+             parameters[item.substr(0, eq)] = item.substr(eq + 1);
+           }
+         },
+         "key=value: the scene's parameter $key (over its <default>), as mitsuba -D; repeatable")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
 namespace {
 // Every command's --threads writes here; applied once the command line is parsed (apply_thread_count).
 int& threads_flag() {

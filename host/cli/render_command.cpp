@@ -32,6 +32,7 @@ namespace {
 
 struct Options {
   std::string scene, model, output, png, reference, error_map, device, path, video;
+  std::map<std::string, std::string> parameters;
   int orbit = 0, path_tracer_check = 0, check_spp = 1024;
   double fps = 30;
   std::vector<float> camera;
@@ -181,6 +182,7 @@ Command add_render_command(CLI::App& app) {
       ->check(CLI::Range(1, 1 << 20))
       ->needs(check);
   add_device_option(*cmd, opt->device);
+  add_scene_parameters_option(*cmd, opt->parameters);
 
   return {cmd, [opt, cmd]() {
             const bool frames = !opt->path.empty() || cmd->count("--orbit") > 0;
@@ -197,7 +199,7 @@ Command add_render_command(CLI::App& app) {
             if (!frames) image::output_format(opt->output, "-o");
             image::output_format(opt->png, "--png", {image::Format::Png});
             image::output_format(opt->error_map, "--error-map", {image::Format::Png});
-            auto scene = scene::load_scene(opt->scene);
+            auto scene = scene::load_scene(opt->scene, opt->parameters);
             auto inputs = radiosity::RunDirectory::input_files(opt->model);
             inputs.insert(inputs.end(), scene.files.begin(), scene.files.end());
             inputs.insert(inputs.end(), {opt->reference, opt->path});

@@ -18,6 +18,7 @@ namespace clr::cli {
 Command add_residual_command(CLI::App& app) {
   struct Options {
     std::string scene, model, device, sampling = "bsdf";
+    std::map<std::string, std::string> parameters;
     float bsdf_fraction = -1;
     std::size_t points = 1 << 16, samples = 256;
     std::uint64_t seed = 7;
@@ -37,9 +38,10 @@ Command add_residual_command(CLI::App& app) {
   cmd->add_option("--seed", opt->seed, "Random seed")->check(integer_at_least(0));
   cmd->add_flag("--json", opt->json, "Print one JSON object");
   add_device_option(*cmd, opt->device);
+  add_scene_parameters_option(*cmd, opt->parameters);
 
   return {cmd, [opt]() {
-            const auto scene = scene::load_scene(opt->scene);
+            const auto scene = scene::load_scene(opt->scene, opt->parameters);
             radiosity::RunDirectory::require_scene(opt->model, scene::fingerprint(scene));
             const geometry::Geometry geometry(scene);
             cl::Context ctx(cl::select_device(opt->device));

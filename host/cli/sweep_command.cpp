@@ -52,6 +52,7 @@ Command add_sweep_command(CLI::App& app) {
       ->check(finite_in(0, 1000, true));
   cmd->add_option("--config", opt->config_file, "Training settings (JSON) for every run, as `train --config`");
   add_device_option(*cmd, opt->device);
+  add_scene_parameters_option(*cmd, opt->sweep.scene_parameters);
 
   return {cmd, [opt]() {
             if (!opt->config_file.empty()) opt->sweep.base = radiosity::load_train_config(opt->config_file);

@@ -77,6 +77,7 @@ void require_same_settings(const radiosity::TrainConfig& given, const radiosity:
 Command add_train_command(CLI::App& app) {
   struct Options {
     std::string scene, run_dir, config_file, device, method, is_loss, residual, gemm, preset, preview;
+    std::map<std::string, std::string> parameters;
     int samples = 0, batch = 0;
     long steps = 0, preview_every = 0;
     radiosity::EvaluationSettings evaluation;
@@ -151,6 +152,7 @@ Command add_train_command(CLI::App& app) {
       ->check(integer_at_least(1))
       ->needs(preview_option);
   add_device_option(*cmd, opt->device);
+  add_scene_parameters_option(*cmd, opt->parameters);
 
   return {
       cmd, [opt, cmd]() {
@@ -184,7 +186,7 @@ Command add_train_command(CLI::App& app) {
         if (config.steps == 0 && config.minutes == 0 && opt->preset.empty())
           throw InputError("give a budget: --steps S or --minutes T (or a --preset)");
 
-        const auto scene = scene::load_scene(opt->scene);
+        const auto scene = scene::load_scene(opt->scene, opt->parameters);
         const auto& ranks = distributed::Communicator::world();
         ranks.require_same("the scenes (the contents of their files)",
                            Digest().add(scene::fingerprint(scene).digest).value());

@@ -107,7 +107,9 @@ void write_model(const fs::path& dir, const TrainConfig& config, const nn::Netwo
 nlohmann::json scene_record(const scene::SceneFingerprint& scene) {
   nlohmann::json files = nlohmann::json::array();
   for (const auto& f : scene.files) files.push_back({{"name", f.name}, {"digest", f.digest}});
-  return {{"scene", scene.scene.string()}, {"digest", scene.digest}, {"files", files}};
+  nlohmann::json record = {{"scene", scene.scene.string()}, {"digest", scene.digest}, {"files", files}};
+  if (!scene.parameters.empty()) record["parameters"] = scene.parameters;  // -D key=value
+  return record;
 }
 
 void write_scene(const fs::path& dir, scene::SceneFingerprint scene) {
@@ -127,6 +129,7 @@ std::optional<scene::SceneFingerprint> read_scene(const fs::path& dir) {
     if (!j.at("files").is_array()) throw InputError(file.string() + ": 'files' is not an array");
     for (const auto& e : j.at("files"))
       f.files.push_back({e.at("name").get<std::string>(), e.at("digest").get<std::string>()});
+    if (j.contains("parameters")) f.parameters = j.at("parameters").get<std::map<std::string, std::string>>();
   } catch (const nlohmann::json::exception& e) {
     throw InputError(file.string() + ": not a run's scene record (" + clip(e.what()) + ")");
   }

@@ -22,12 +22,23 @@ SceneFingerprint fingerprint(const Scene& scene) {
     all.add(i == 0 ? "" : entry.name).add("\n").add(entry.digest).add("\n");
     f.files.push_back(std::move(entry));
   }
+  // Added only where there are any, so a scene loaded without -D keeps the digest runs recorded before -D existed.
+  for (const auto& [name, value] : scene.parameters) all.add("-D ").add(name).add("=").add(value).add("\n");
+  f.parameters = scene.parameters;
   f.digest = all.hex();
   return f;
 }
 
 std::string difference(const SceneFingerprint& from, const SceneFingerprint& to) {
   if (from.digest == to.digest) return "";
+  if (from.parameters != to.parameters) {
+    const auto list = [](const std::map<std::string, std::string>& p) {
+      std::string s;
+      for (const auto& [name, value] : p) s += (s.empty() ? "" : " ") + name + "=" + value;
+      return s.empty() ? std::string("none") : s;
+    };
+    return "the parameters differ (-D " + list(from.parameters) + " then, " + list(to.parameters) + " now)";
+  }
   if (!from.files.empty() && !to.files.empty() && from.files.front().digest != to.files.front().digest)
     return "the scene file differs";
   const auto find = [](const SceneFingerprint& f, const std::string& name) {

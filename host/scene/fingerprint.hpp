@@ -5,6 +5,7 @@
 // to the scene's folder. Contents, not paths, decide:
 // a scene folder that was copied or moved keeps its runs; a mesh edited in place does not.
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -17,9 +18,10 @@ struct SceneFingerprint {
     std::string name;    // relative to the scene file's folder (absolute when it lies elsewhere)
     std::string digest;  // common/digest.hpp, hex
   };
-  std::filesystem::path scene;  // the scene file as it was given
-  std::vector<File> files;      // the scene file first
-  std::string digest;           // over the files' names and digests, in order
+  std::filesystem::path scene;                    // the scene file as it was given
+  std::vector<File> files;                        // the scene file first
+  std::map<std::string, std::string> parameters;  // Scene::parameters (-D), where any
+  std::string digest;                             // over the files' names and digests, in order, and the parameters
 
   bool operator==(const SceneFingerprint& other) const { return digest == other.digest; }
 };

@@ -42,6 +42,9 @@ struct Scene {
   // Each file's content digest (common/digest.hpp), taken when the loader read it: what the scene was made of, even
   // if the file changes or goes away later (scene/fingerprint.hpp).
   std::vector<std::string> file_digests;
+  // The parameters given to load_scene (`-D key=value`) whose value is not the file's own <default>: what makes the
+  // same files another scene, so the fingerprint covers them.
+  std::map<std::string, std::string> parameters;
 
   const Bsdf& bsdf(const Shape& s) const { return *materials[std::size_t(s.material)]; }
 };

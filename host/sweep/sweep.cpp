@@ -102,7 +102,7 @@ void run_sweep(cl::Context& ctx, const SweepOptions& options) {
   SweepOptions o = options;
   std::sort(o.minutes.begin(), o.minutes.end());
   o.minutes.erase(std::unique(o.minutes.begin(), o.minutes.end()), o.minutes.end());
-  const scene::Scene scene = scene::load_scene(o.scene);
+  const scene::Scene scene = scene::load_scene(o.scene, o.scene_parameters);
   scene::require_sensor(scene, o.scene);
   scene::require_emitter(scene, o.scene);
   const int width = o.width > 0 ? o.width : scene.camera.width, height = o.height > 0 ? o.height : scene.camera.height;

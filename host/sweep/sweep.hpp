@@ -5,6 +5,7 @@
 // request (Ctrl-C) ends the sweep at the next safe point with every finished row kept; running it again
 // continues: finished rows are skipped, an interrupted training resumes from its checkpoint.
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -15,8 +16,9 @@ namespace clr::sweep {
 
 struct SweepOptions {
   std::filesystem::path scene, dir;
-  std::filesystem::path reference;  // empty: path-trace one into SWEEP_DIR/reference.exr
-  std::vector<double> minutes;      // the time budgets, in training minutes
+  std::map<std::string, std::string> scene_parameters;  // -D key=value
+  std::filesystem::path reference;                      // empty: path-trace one into SWEEP_DIR/reference.exr
+  std::vector<double> minutes;                          // the time budgets, in training minutes
   std::vector<std::string> methods;
   std::vector<int> samples;
   int seeds = 1;

@@ -1,4 +1,5 @@
-// The command-line habits Mitsuba and pbrt users bring (docs/cli.md): an image output's format from its extension.
+// The command-line habits Mitsuba and pbrt users bring (docs/cli.md): an image output's format from its extension,
+// -D key=value for the scene's parameters.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -6,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "image/image.hpp"
 #include "support/cli_run_dir.hpp"
 #include "support/run_cli.hpp"
 
@@ -20,8 +22,8 @@ const std::string kBox = (fs::path(CLR_SOURCE_DIR) / "scenes" / "cornell-box.xml
 class HabitsCli : public CliRunDir {
  protected:
   HabitsCli() : CliRunDir("habits_cli") {}
-  fs::path train() {
-    const fs::path run = dir / "run";
+  fs::path train(const std::string& name = "run") {
+    const fs::path run = dir / name;
     const auto r = run_cli("train " + kBox + " --steps 5 --config " + config + " -o " + run.string());
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return run;
@@ -89,6 +91,32 @@ TEST_F(HabitsCli, EveryImageOutputIsCheckedBeforeTheWork) {
                      (dir / "run2").string(),
                  "--preview");
   EXPECT_FALSE(fs::exists(dir / "run2" / "model.clr")) << "trained before refusing --preview";
+}
+
+// The bundled Cornell box's film is $res × $res (<default name="res" value="128"/>).
+TEST_F(HabitsCli, SceneParametersFillTheSceneAndItsDigest) {
+  auto r = run_cli("reference " + kBox + " --spp 1 -D res=16 -o " + (dir / "d.exr").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(image::read_exr(dir / "d.exr").width, 16);
+  r = run_cli("reference " + kBox + " --spp 1 -D res -o " + (dir / "e.exr").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("'res' is not key=value"));
+
+  const fs::path run = dir / "run";
+  r = run_cli("train " + kBox + " --steps 2 --config " + config + " -D res=24 -o " + run.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Another parameter value is another scene, as another file would be: refused naming the parameters.
+  r = run_cli("render " + kBox + " --model " + run.string() + " -o " + (dir / "f.exr").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("the parameters differ (-D res=24 then, none now)"));
+  r = run_cli("render " + kBox + " -D res=24 --model " + run.string() + " -o " + (dir / "f.exr").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(image::read_exr(dir / "f.exr").width, 24);
+  // A value equal to the file's own <default> changes nothing: the run of the plain scene accepts it.
+  const fs::path plain = train("plain");
+  r = run_cli("render " + kBox + " -D res=128 --model " + plain.string() + " --width 8 --height 8 -o " +
+              (dir / "g.exr").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
 }  // namespace

@@ -27,11 +27,14 @@ class Loader final : public loader::Context {
   static constexpr std::size_t kMaxFiles = 1024;
 
  public:
-  explicit Loader(const std::map<std::string, std::string>& parameters) : params_(parameters) {}
+  explicit Loader(const std::map<std::string, std::string>& parameters) : params_(parameters), given_(parameters) {}
 
   Scene load(const std::filesystem::path& path) {
     scene_folder_ = path.parent_path();
     load_file(path, nullptr);
+    for (const auto& [name, value] : given_)
+      if (const auto d = defaults_.find(name); d == defaults_.end() || d->second != value)
+        scene_.parameters[name] = value;
     if (scene_.materials.empty()) scene_.materials.push_back(default_bsdf());
     return std::move(scene_);
   }
@@ -207,6 +210,7 @@ class Loader final : public loader::Context {
       if (c.has("id") && !built_.insert(c.xml.internal_object()).second) continue;  // built when referenced
       if (t == "default") {
         params_.try_emplace(c.attr("name"), c.attr("value"));
+        defaults_.try_emplace(c.attr("name"), c.attr("value"));
       } else if (t == "include") {
         const auto file = resolve(c, c.attr("filename"));
         require_file(c, file, "included file");
@@ -521,6 +525,7 @@ class Loader final : public loader::Context {
 
   std::vector<std::unique_ptr<xml::Source>> sources_;
   std::map<std::string, std::string> params_;
+  std::map<std::string, std::string> given_, defaults_;  // the caller's parameters; the files' <default>s
   std::filesystem::path scene_folder_;
   std::vector<std::filesystem::path> search_folders_;
   std::set<std::filesystem::path> including_;
