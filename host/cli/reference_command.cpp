@@ -22,9 +22,11 @@ Command add_reference_command(CLI::App& app) {
   };
   auto opt = std::make_shared<Options>();
   opt->render.progress = true;
+  opt->render.spp = 0;  // the scene's sampler's, unless --spp
   auto* cmd = app.add_subcommand("reference", "Render a path-traced reference image (CPU, all cores)");
   cmd->add_option("scene", opt->scene, "Mitsuba scene (XML)")->required();
-  cmd->add_option("--spp", opt->render.spp, "Samples per pixel")->required()->check(CLI::Range(1, 1 << 24));
+  cmd->add_option("--spp", opt->render.spp, "Samples per pixel (default: the scene's <sampler> sample_count)")
+      ->check(CLI::Range(1, 1 << 24));
   cmd->add_option("--width", opt->render.width, "Image width (default: the scene's film)")->check(CLI::Range(1, 65536));
   cmd->add_option("--height", opt->render.height, "Image height (default: the scene's film)")
       ->check(CLI::Range(1, 65536));
@@ -48,6 +50,16 @@ Command add_reference_command(CLI::App& app) {
                            Digest().add(scene::fingerprint(scene).digest).value());
         if (ranks.rank() == 0) require_outputs({{opt->output, "-o"}}, scene.files);
         scene::require_sensor(scene, opt->scene);
+        // As mitsuba renders a scene: its sampler's count, unless the command line says otherwise.
+        if (opt->render.spp == 0) {
+          if (!scene.sample_count)
+            throw InputError("--spp: give the samples per pixel; " + opt->scene +
+                             " names none (<sampler><integer name=\"sample_count\">)");
+          if (*scene.sample_count < 1 || *scene.sample_count > (1 << 24))
+            throw InputError("--spp: give the samples per pixel; " + opt->scene + "'s sampler asks for " +
+                             std::to_string(*scene.sample_count) + ", outside [1, 2^24]");
+          opt->render.spp = *scene.sample_count;
+        }
         scene::require_emitter(scene, opt->scene);
         const geometry::Geometry geometry(scene);
         reference::RenderStats stats;

@@ -35,6 +35,9 @@ struct Scene {
   Camera camera;
   // The scene's integrator max_depth (longest path in segments, Mitsuba's convention); -1: unbounded.
   int max_depth = -1;
+  // The sensor's <sampler> sample_count (Mitsuba's samples per pixel), which `reference` takes when given no --spp;
+  // nullopt where the scene names none.
+  std::optional<int> sample_count;
   bool has_sensor = false;  // false: `camera` holds defaults, not a view the file chose
   // Every file the scene was read from — the XML first, then includes, meshes, textures and environment maps in the
   // order first read: a command's inputs (no output may replace one) and what a scene's fingerprint covers.

@@ -1,10 +1,11 @@
 // The command-line habits Mitsuba and pbrt users bring (docs/cli.md): an image output's format from its extension,
-// -D key=value for the scene's parameters.
+// -D key=value for the scene's parameters, reference's samples per pixel from the scene's sampler.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "image/image.hpp"
@@ -117,6 +118,35 @@ TEST_F(HabitsCli, SceneParametersFillTheSceneAndItsDigest) {
   r = run_cli("render " + kBox + " -D res=128 --model " + plain.string() + " --width 8 --height 8 -o " +
               (dir / "g.exr").string());
   EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+// `reference` without --spp takes the sensor's <sampler> sample_count, as mitsuba does (and -D fills it there).
+TEST_F(HabitsCli, ReferenceTakesTheSamplersCount) {
+  std::ifstream in(kBox);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string xml = text.str();
+  const auto sensor = xml.find('>', xml.find("<sensor"));
+  ASSERT_NE(sensor, std::string::npos);
+  xml.insert(sensor + 1, R"(<sampler type="independent"><integer name="sample_count" value="$spp"/></sampler>)");
+  xml.insert(xml.find('>', xml.find("<scene")) + 1, R"(<default name="spp" value="3"/>)");
+  const fs::path scene = dir / "sampled.xml";
+  std::ofstream(scene) << xml;
+  const std::string base = " --width 4 --height 4 -o " + (dir / "s.exr").string();
+  auto r = run_cli("reference " + scene.string() + base);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr(", 3 spp,"));
+  r = run_cli("reference " + scene.string() + " -D spp=5" + base);
+  EXPECT_THAT(r.out, HasSubstr(", 5 spp,"));
+  r = run_cli("reference " + scene.string() + " --spp 2" + base);
+  EXPECT_THAT(r.out, HasSubstr(", 2 spp,")) << "--spp wins over the scene";
+  r = run_cli("reference " + scene.string() + " -D spp=0" + base);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("sampler asks for 0"));
+  // A scene without a sampler still needs --spp, and says so.
+  r = run_cli("reference " + kBox + base);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("--spp: give the samples per pixel"));
 }
 
 }  // namespace

@@ -511,6 +511,17 @@ class Loader final : public loader::Context {
     p.check_all_used();
     Camera& c = scene_.camera;
     for (const Node& o : p.objects) {
+      if (o.tag() == "sampler") {
+        // Read only for `reference`'s default spp: a count this loader cannot read (an undefined $spp, as the
+        // Mitsuba docs' scenes have) leaves the scene without one instead of refusing a scene that renders.
+        try {
+          if (const Props sampler(o); sampler.has("sample_count"))
+            scene_.sample_count = sampler.integer("sample_count", 0);
+        } catch (const InputError&) {
+          scene_.sample_count.reset();
+        }
+        continue;
+      }
       if (o.tag() != "film") continue;
       const Props f(o);
       c.width = f.integer("width", 768);
