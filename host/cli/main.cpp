@@ -119,10 +119,16 @@ int run(int argc, char** argv) {
       clr::cli::add_train_command(app),   clr::cli::add_render_command(app),  clr::cli::add_residual_command(app),
       clr::cli::add_guide_command(app),   clr::cli::add_sweep_command(app),   clr::cli::add_export_command(app),
   };
+  // pbrt's --quiet: no progress and no informational lines on stderr; results (stdout) and errors stay.
+  bool quiet = false;
+  app.add_flag("-q,--quiet", quiet, "No progress or informational lines on stderr (results and errors stay)");
+  for (const auto& c : commands)
+    c.app->add_flag("-q,--quiet", quiet, "No progress or informational lines on stderr (results and errors stay)");
 
   std::string command;  // names the options to lower when memory runs out
   try {
     app.parse(argc, argv);
+    if (quiet) clr::Progress::silence_process();
     clr::cli::apply_thread_count();
     const auto& ranks = clr::distributed::Communicator::world();
     if (ranks.distributed()) {

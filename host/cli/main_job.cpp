@@ -8,6 +8,7 @@
 #include "cl/context.hpp"
 #include "cli/command.hpp"
 #include "cli/data_files.hpp"
+#include "common/progress.hpp"
 #include "common/run_lock.hpp"
 #include "common/stop_signal.hpp"
 #include "geometry/geometry.hpp"
@@ -37,10 +38,11 @@ int run_main_job(double minutes, const std::string& preset) {
     const geometry::SurfaceSampler sampler(scene);
     for (const auto& line :
          radiosity::apply_preset(preset, config, radiosity::scene_inputs(geometry, sampler), ctx.device()))
-      std::cerr << "preset " << preset << ": " << line << "\n";
+      if (!Progress::silenced()) std::cerr << "preset " << preset << ": " << line << "\n";
   }
-  std::cerr << "clradiosity: training " << scene_path.string() << " for " << config.minutes << " min on "
-            << ctx.device().describe() << "\n";
+  if (!Progress::silenced())
+    std::cerr << "clradiosity: training " << scene_path.string() << " for " << config.minutes << " min on "
+              << ctx.device().describe() << "\n";
 
   fs::remove_all(run);
   radiosity::Trainer trainer(ctx, geometry, config, run, false);

@@ -17,6 +17,7 @@
 #include "common/error.hpp"
 #include "common/folder_record.hpp"
 #include "common/input_file.hpp"
+#include "common/progress.hpp"
 #include "common/stop_signal.hpp"
 #include "distributed/communicator.hpp"
 #include "geometry/geometry.hpp"
@@ -232,7 +233,8 @@ Command add_train_command(CLI::App& app) {
           const auto why =
               radiosity::apply_preset(opt->preset, config, radiosity::scene_inputs(geometry, sampler), ctx.device());
           if (ranks.rank() == 0)
-            for (const auto& line : why) std::cerr << "preset " << opt->preset << ": " << line << "\n";
+            if (!Progress::silenced())
+              for (const auto& line : why) std::cerr << "preset " << opt->preset << ": " << line << "\n";
           apply_flags();
         }
         radiosity::Trainer trainer(ctx, geometry, config, opt->run_dir, opt->resume, ranks);
@@ -275,15 +277,17 @@ Command add_train_command(CLI::App& app) {
             if (long(trainer.steps_done()) % every == 0) write_preview();
           };
         }
-        std::cerr << "train: " << opt->scene << " on " << ctx.device().describe() << ", "
-                  << radiosity::to_string(trainer.config().method) << ", batch " << trainer.config().batch << " × "
-                  << trainer.config().samples << " samples, " << trainer.network().parameter_count() << " parameters";
-        if (auto* guide = trainer.guide())
-          std::cerr << " + I-Module " << guide->parameter_count() << " ("
-                    << radiosity::to_string(trainer.config().is_loss) << ", BSDF share "
-                    << trainer.config().bsdf_fraction << ")";
-        if (ranks.distributed()) std::cerr << ", " << ranks.size() << " MPI ranks";
-        std::cerr << "\n";
+        if (!Progress::silenced()) {
+          std::cerr << "train: " << opt->scene << " on " << ctx.device().describe() << ", "
+                    << radiosity::to_string(trainer.config().method) << ", batch " << trainer.config().batch << " × "
+                    << trainer.config().samples << " samples, " << trainer.network().parameter_count() << " parameters";
+          if (auto* guide = trainer.guide())
+            std::cerr << " + I-Module " << guide->parameter_count() << " ("
+                      << radiosity::to_string(trainer.config().is_loss) << ", BSDF share "
+                      << trainer.config().bsdf_fraction << ")";
+          if (ranks.distributed()) std::cerr << ", " << ranks.size() << " MPI ranks";
+          std::cerr << "\n";
+        }
         trainer.run(watch);
         if (ranks.distributed()) print_exchange(trainer.exchange().stats(), trainer.steps_done() - first_step);
         std::cout << "model: " << opt->run_dir << "/model.clr (" << trainer.steps_done() << " steps)\n";

@@ -22,7 +22,9 @@ class Progress {
   void finish(const std::string& detail = "");
   double elapsed_seconds() const;
   // Silences every Progress of this process: MPI ranks other than 0, whose lines would repeat rank 0's.
+  // And `-q/--quiet`: the commands' informational lines on stderr ask silenced() too (results and errors stay).
   static void silence_process();
+  static bool silenced() { return silent_; }
 
  private:
   void print(double done, const std::string& detail, bool final);

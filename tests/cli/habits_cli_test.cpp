@@ -1,5 +1,6 @@
 // The command-line habits Mitsuba and pbrt users bring (docs/cli.md): an image output's format from its extension,
-// -D key=value for the scene's parameters, reference's samples per pixel from the scene's sampler.
+// -D key=value for the scene's parameters, reference's samples per pixel from the scene's sampler,
+// -q/--quiet.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -147,6 +148,28 @@ TEST_F(HabitsCli, ReferenceTakesTheSamplersCount) {
   r = run_cli("reference " + kBox + base);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("--spp: give the samples per pixel"));
+}
+
+// -q/--quiet, pbrt's: no progress or informational lines on stderr; results on stdout and errors stay.
+TEST_F(HabitsCli, QuietLeavesResultsAndErrors) {
+  const std::string reference = "reference " + kBox + " --spp 1 --width 4 --height 4 -o " + (dir / "q.exr").string();
+  auto r = run_cli(reference);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("reference")) << "without -q the progress line is there";
+  r = run_cli(reference + " -q");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.err, "");
+  EXPECT_THAT(r.out, HasSubstr("1 spp"));
+  const std::string train = "train " + kBox + " --steps 2 --config " + config + " -o ";
+  r = run_cli(train + (dir / "loud").string());
+  EXPECT_THAT(r.err, HasSubstr("train: "));
+  r = run_cli("--quiet " + train + (dir / "quiet").string());
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.err, "");
+  EXPECT_THAT(r.out, HasSubstr("model: "));
+  r = run_cli(reference + " -q --width 0");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("--width"));
 }
 
 }  // namespace
