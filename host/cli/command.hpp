@@ -1,6 +1,7 @@
 #pragma once
 // Each subcommand registers itself on the CLI11 app and returns the function that runs it after parsing.
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <string>
@@ -20,6 +21,12 @@ void add_threads_option(CLI::App& cmd);
 // Adds -D key=value (repeatable), Mitsuba's: fills the scene's $key where its file reads one, over its <default>.
 // The values become part of the scene's fingerprint (runs and sweeps record them).
 void add_scene_parameters_option(CLI::App& cmd, std::map<std::string, std::string>& parameters);
+// The command line as given (argv joined by spaces), for the metadata of the images a command writes.
+const std::string& command_line();
+// What an EXR records of how it was made (docs/cli.md, "EXR metadata"): software, command line, scene digest, spp,
+// seed, seconds; `steps` (model renders) where given.
+std::map<std::string, std::string> exr_metadata(const std::string& scene_digest, int spp, std::uint64_t seed,
+                                                double seconds, long long steps = -1);
 // Applies --threads or CLRADIOSITY_THREADS (InputError naming a malformed value), before any OpenCL call.
 void apply_thread_count();
 

@@ -25,6 +25,29 @@ void add_device_option(CLI::App& cmd, std::string& spec) {
   add_threads_option(cmd);
 }
 
+namespace {
+std::string& command_line_text() {
+  static std::string text;
+  return text;
+}
+}  // namespace
+
+const std::string& command_line() { return command_line_text(); }
+
+std::map<std::string, std::string> exr_metadata(const std::string& scene_digest, int spp, std::uint64_t seed,
+                                                double seconds, long long steps) {
+  char time[32];
+  std::snprintf(time, sizeof time, "%.3f", seconds);
+  std::map<std::string, std::string> m = {{"software", std::string("clradiosity ") + CLR_VERSION},
+                                          {"commandLine", command_line()},
+                                          {"sceneDigest", scene_digest},
+                                          {"spp", std::to_string(spp)},
+                                          {"seed", std::to_string(seed)},
+                                          {"renderTimeSeconds", time}};
+  if (steps >= 0) m["steps"] = std::to_string(steps);
+  return m;
+}
+
 void add_scene_parameters_option(CLI::App& cmd, std::map<std::string, std::string>& parameters) {
   cmd.add_option_function<std::vector<std::string>>(
          "-D",
@@ -106,6 +129,7 @@ std::uint64_t command_line_digest(int argc, char** argv) {
 }
 
 int run(int argc, char** argv) {
+  for (int i = 0; i < argc; ++i) clr::cli::command_line_text() += (i ? " " : "") + std::string(argv[i]);
   CLI::App app{"clradiosity: Importance-Sampling-Guided Neural Radiosity on OpenCL devices", "clradiosity"};
   app.set_version_flag("--version", std::string("clradiosity ") + CLR_VERSION);
   app.require_subcommand(0, 1);

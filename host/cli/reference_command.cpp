@@ -73,7 +73,9 @@ Command add_reference_command(CLI::App& app) {
         stats.non_finite = std::uint64_t(totals[2]);
         stats.seconds = ranks.max(stats.seconds);
         if (ranks.rank() != 0) return 0;
-        image::write_image(opt->output, img, format);
+        image::write_image(
+            opt->output, img, format,
+            exr_metadata(scene::fingerprint(scene).digest, opt->render.spp, opt->render.seed, stats.seconds));
         std::printf(
             "%s: %dx%d, %d spp, %.3f s, %.2f Msamples/s, %.2f Mrays/s%s\n", opt->output.c_str(), img.width, img.height,
             opt->render.spp, stats.seconds, double(stats.paths) / stats.seconds * 1e-6,

@@ -2,6 +2,7 @@
 //                   [--width W --height H] [--camera ox,oy,oz,tx,ty,tz,ux,uy,uz,fov]
 // clradiosity render SCENE.xml --model RUN_DIR (--path PATH.json | --orbit N) -o FRAMES_DIR [--png] [--video V.mp4]
 //                   [--fps F] [--path-tracer-check K [--check-spp S]]
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -121,8 +122,12 @@ int render_image(Options& opt, scene::Scene& scene) {
   // A reference that cannot be read fails before the render, not after it.
   std::optional<image::Image> reference;
   if (!opt.reference.empty()) reference = image::read_exr(opt.reference);
+  const auto start = std::chrono::steady_clock::now();
   const auto img = radiosity::render(geometry, radiosity::radiance_query(ctx, *network), opt.settings);
-  image::write_image(opt.output, img, image::output_format(opt.output, "-o"));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  image::write_image(opt.output, img, image::output_format(opt.output, "-o"),
+                     exr_metadata(scene::fingerprint(scene).digest, opt.settings.spp, opt.settings.seed, seconds,
+                                  static_cast<long long>(network->steps())));
   if (!opt.png.empty()) image::write_png(opt.png, img);
   std::cout << "image: " << opt.output << (opt.png.empty() ? "" : ", " + opt.png) << "\n";
   if (reference) {

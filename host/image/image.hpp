@@ -2,6 +2,7 @@
 // Linear RGB float images, EXR/PNG files and the metrics of docs/design.md §4.
 #include <cstddef>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -28,8 +29,10 @@ void check_image_size(long long width, long long height, const std::string& what
 
 // RGB channels of an OpenEXR file (missing G/B replicate R; alpha ignored). InputError naming the file on failure.
 Image read_exr(const std::filesystem::path& path);
-// Writes a float32 RGB EXR, atomically (temp name, then rename), so no partial file is left behind.
-void write_exr(const std::filesystem::path& path, const Image& img);
+// Writes a float32 RGB EXR, atomically (temp name, then rename), so no partial file is left behind. `attributes`
+// become string attributes of its header (what made the image: spp, seconds, seed, …, as pbrt records them).
+void write_exr(const std::filesystem::path& path, const Image& img,
+               const std::map<std::string, std::string>& attributes = {});
 // 8-bit sRGB PNG of the image scaled by 2^exposure and clamped, written atomically.
 void write_png(const std::filesystem::path& path, const Image& img, float exposure = 0.0f);
 // 8-bit image files (png/jpg/...) as linear or sRGB-decoded floats, for textures.

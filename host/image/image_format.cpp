@@ -31,9 +31,10 @@ Format output_format(const fs::path& path, const std::string& option, std::initi
                    (ext.empty() ? "" : " (not " + ext + ")"));
 }
 
-void write_image(const fs::path& path, const Image& img, Format format) {
+void write_image(const fs::path& path, const Image& img, Format format,
+                 const std::map<std::string, std::string>& attributes) {
   if (format == Format::Exr)
-    write_exr(path, img);
+    write_exr(path, img, attributes);
   else
     write_png(path, img);
 }

@@ -17,7 +17,9 @@ enum class Format { Exr, Png };
 Format output_format(const std::filesystem::path& path, const std::string& option,
                      std::initializer_list<Format> allowed = {Format::Exr, Format::Png});
 
-// write_exr, or write_png of the linear image (sRGB, exposure 0).
-void write_image(const std::filesystem::path& path, const Image& img, Format format);
+// write_exr with `attributes` in its header, or write_png of the linear image (sRGB, exposure 0; PNG has no room
+// for them).
+void write_image(const std::filesystem::path& path, const Image& img, Format format,
+                 const std::map<std::string, std::string>& attributes = {});
 
 }  // namespace clr::image

@@ -4,6 +4,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfStringAttribute.h>
 #include <stb_image.h>
 #include <stb_image_write.h>
 
@@ -72,9 +73,10 @@ Image read_exr(const fs::path& path) {
   }
 }
 
-void write_exr(const fs::path& path, const Image& img) {
+void write_exr(const fs::path& path, const Image& img, const std::map<std::string, std::string>& attributes) {
   clr::write_atomically(path, [&](const fs::path& tmp) {
     Imf::Header header(img.width, img.height);
+    for (const auto& [name, value] : attributes) header.insert(name, Imf::StringAttribute(value));
     for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
     Imf::OutputFile file(tmp.c_str(), header);
     Imf::FrameBuffer fb;

@@ -1,11 +1,15 @@
 // The command-line habits Mitsuba and pbrt users bring (docs/cli.md): an image output's format from its extension,
 // -D key=value for the scene's parameters, reference's samples per pixel from the scene's sampler,
-// -q/--quiet.
+// -q/--quiet, the metadata of EXRs.
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfStringAttribute.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
@@ -170,6 +174,36 @@ TEST_F(HabitsCli, QuietLeavesResultsAndErrors) {
   r = run_cli(reference + " -q --width 0");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("--width"));
+}
+
+// An EXR's string attribute, "" where it has none.
+std::string exr_attribute(const fs::path& file, const std::string& name) {
+  Imf::InputFile in(file.c_str());
+  const auto* a = in.header().findTypedAttribute<Imf::StringAttribute>(name);
+  return a ? a->value() : "";
+}
+
+// What made an EXR travels in its header, as pbrt records spp and render time.
+TEST_F(HabitsCli, ExrsRecordHowTheyWereMade) {
+  const fs::path ref = dir / "ref.exr";
+  auto r = run_cli("reference " + kBox + " --spp 2 --seed 9 --width 4 --height 4 -o " + ref.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto scene = nlohmann::json::parse(std::ifstream(train() / "scene.json"));
+  EXPECT_EQ(exr_attribute(ref, "spp"), "2");
+  EXPECT_EQ(exr_attribute(ref, "seed"), "9");
+  EXPECT_EQ(exr_attribute(ref, "sceneDigest"), scene.at("digest").get<std::string>());
+  EXPECT_THAT(exr_attribute(ref, "commandLine"), HasSubstr("reference " + kBox + " --spp 2 --seed 9"));
+  EXPECT_THAT(exr_attribute(ref, "software"), HasSubstr("clradiosity"));
+  EXPECT_FALSE(exr_attribute(ref, "renderTimeSeconds").empty());
+  EXPECT_EQ(exr_attribute(ref, "steps"), "") << "a path-traced image has no training steps";
+
+  const fs::path img = dir / "model.exr";
+  r = run_cli("render " + kBox + " --model " + (dir / "run").string() + " --spp 3 --width 4 --height 4 -o " +
+              img.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(exr_attribute(img, "steps"), "5");
+  EXPECT_EQ(exr_attribute(img, "spp"), "3");
+  EXPECT_EQ(exr_attribute(img, "sceneDigest"), scene.at("digest").get<std::string>());
 }
 
 }  // namespace
