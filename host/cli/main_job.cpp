@@ -1,6 +1,7 @@
 // `clradiosity` without arguments: the bundled Cornell box end to end on the default device. Trains for a short
 // fixed budget (or a preset's), renders at the scene's 128×128, renders a path-traced reference (cached beside the
 // run), and prints where the images are and the MAPE between them.
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -17,6 +18,7 @@
 #include "radiosity/trained_model.hpp"
 #include "radiosity/trainer.hpp"
 #include "reference/path_tracer.hpp"
+#include "scene/fingerprint.hpp"
 #include "scene/scene.hpp"
 
 namespace clr::cli {
@@ -51,8 +53,13 @@ int run_main_job(double minutes, const std::string& preset) {
 
   radiosity::RenderSettings settings;
   settings.spp = 16;
+  const std::string digest = scene::fingerprint(scene).digest;
+  const auto start = std::chrono::steady_clock::now();
   const auto img = radiosity::render(geometry, radiosity::radiance_query(ctx, trainer.network()), settings);
-  image::write_exr(out / "cornell-box.exr", img);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  image::write_exr(
+      out / "cornell-box.exr", img,
+      exr_metadata(digest, settings.spp, settings.seed, seconds, static_cast<long long>(trainer.steps_done())));
   image::write_png(out / "cornell-box.png", img);
 
   // The reference depends only on the scene and these settings, so it is rendered once and reused.
@@ -61,7 +68,9 @@ int run_main_job(double minutes, const std::string& preset) {
     reference::RenderOptions ref;
     ref.spp = 1024;
     ref.progress = true;
-    image::write_exr(ref_path, reference::render(geometry, ref));
+    reference::RenderStats stats;
+    const auto traced = reference::render(geometry, ref, &stats);
+    image::write_exr(ref_path, traced, exr_metadata(digest, ref.spp, ref.seed, stats.seconds));
   }
   const auto ref = image::read_exr(ref_path);
   const auto m = image::compare(img, ref);
