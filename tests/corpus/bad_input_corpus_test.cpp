@@ -191,6 +191,11 @@ const std::vector<Case>& cases() {
       scene_case("include_self.xml", "recursive include"),
       generated_case("include_doubling_0.xml", "files loaded through <include>"),
       scene_case("dangling_ref.xml", "unknown id 'nowhere'"),
+      // Every recursion bounded: forward references, include chains, BSDFs nested through references.
+      generated_case("forward_refs.xml", "plugins nested deeper than 128 levels"),
+      generated_case("include_chain_0.xml", "plugins nested deeper than 128 levels"),
+      generated_case("mask_chain.xml", "BSDFs nested 33 deep"),
+      generated_case("blend_doubling.xml", "BSDFs in all"),
       scene_case("laughs.xml", "after $parameter substitution"),
       scene_case("no_emitter.xml", "no emitter"),
       scene_case("zero_emitter.xml", "no emitter"),
@@ -207,6 +212,17 @@ const std::vector<Case>& cases() {
       scene_case("fov_180.xml", "fov must lie in (0, 180)"),
       scene_case("negative_radiance.xml", "radiance must be non-negative"),
       scene_case("negative_environment.xml", "<emitter type=\"constant\">: radiance must be non-negative"),
+      // Light never negative, wherever it comes from: texels (not only their mean), scales, reflectances.
+      generated_case("negative_texel_radiance.xml", "radiance must be non-negative and finite (a texel holds -4)"),
+      generated_case("negative_texel_reflectance.xml",
+                     "reflectance must be non-negative and finite (a texel holds -4)"),
+      generated_case("negative_texel_spot.xml", "texture must be non-negative and finite (a texel holds -4)"),
+      generated_case("negative_texel_projector.xml", "irradiance must be non-negative and finite (a texel holds -4)"),
+      generated_case("negative_scale_projector.xml", "<emitter type=\"projector\">: scale must be non-negative"),
+      generated_case("negative_scale_envmap.xml", "<emitter type=\"envmap\">: scale must be non-negative"),
+      generated_case("negative_pixel_envmap.xml", "environment map has a negative pixel at (3, 1)"),
+      generated_case("negative_checker.xml", "reflectance must be non-negative and finite (it is"),
+      generated_case("negative_blend_weight.xml", "weight must be non-negative and finite (it is -0.5)"),
       scene_case("missing_mesh.xml", "not found"),
       scene_case("bad_spectrum.xml", "<spectrum name=\"radiance\">: wavelengths must increase"),
       scene_case("bad_hex_colour.xml", "malformed colour '#12345g'"),
@@ -244,6 +260,12 @@ const std::vector<Case>& cases() {
       generated_case("truncated_binary.ply.xml", "more than the file's 20 bytes"),
       generated_case("huge_list.ply.xml", "list length out of range"),
       generated_case("nan_binary.ply.xml", "not finite"),
+      // Indices and duplicates checked by every mesh reader before normals are computed from them.
+      generated_case("ply_index_smooth.xml", "index out of range"),
+      generated_case("ply_index_crease.xml", "index out of range"),
+      generated_case("ply_two_vertex_elements.ply.xml", "PLY element 'vertex' is declared twice"),
+      generated_case("ply_two_x.ply.xml", "PLY property 'x' of element 'vertex' is declared twice"),
+      generated_case("index.serialized.xml", "triangle vertex index 7 is out of range"),
       // Mesh attributes (mesh_attribute textures)
       generated_case("attribute_missing.xml",
                      "mesh_attribute texture 'tex' reads attribute 'face_color', which shape 'attributed' does not "
@@ -274,6 +296,15 @@ const std::vector<Case>& cases() {
       generated_case("huge_window.exr.xml", "EXR"),
       generated_case("nan_envmap.exr.xml", "non-finite pixels"),
       generated_case("nan_texture.exr.xml", "non-finite texels"),
+      // Image dimensions against the bytes present, in every image reader; truncated pixels refused.
+      generated_case("huge.hdr.xml", "16384x8192 pixels, more than its"),
+      generated_case("huge_envmap.hdr.xml", "16384x8192 pixels, more than its"),
+      generated_case("truncated.hdr.xml", "is truncated"),
+      generated_case("truncated_envmap.hdr.xml", "is truncated"),
+      generated_case("header_only.png.xml", "bytes can hold"),
+      generated_case("truncated.png.xml", "image"),
+      generated_case("truncated.ppm.xml", "bytes can hold"),
+      generated_case("big_window.exr.xml", "bytes can hold"),
       // command-line options
       train_case("train_learning_rate_nan", "--steps 1 --learning-rate nan", "--learning-rate"),
       train_case("train_learning_rate_negative", "--steps 1 --learning-rate -1", "--learning-rate"),
@@ -383,6 +414,37 @@ void generate(const fs::path& t) {
                                   : std::string()) +
               "</scene>\n");
   }
+  {
+    // 10 000 BSDFs each referring to the next, declared further down: built recursively from the first.
+    constexpr int kChain = 10000;
+    std::string chain = "<bsdf type=\"diffuse\" id=\"b" + std::to_string(kChain) + "\"/>";
+    for (int i = kChain - 1; i >= 0; --i)
+      chain = "<bsdf type=\"mask\" id=\"b" + std::to_string(i) + "\"><ref id=\"b" + std::to_string(i + 1) +
+              "\"/></bsdf>\n" + chain;
+    write(t / "forward_refs.xml",
+          scene_around("<shape type=\"rectangle\"><emitter type=\"area\"/><ref id=\"b0\"/></shape>\n" + chain));
+    // 33 masks each nesting the one before (no forward reference: each is built when declared).
+    std::string masks = "<bsdf type=\"diffuse\" id=\"m0\"/>\n";
+    for (int i = 1; i <= 33; ++i)
+      masks +=
+          "<bsdf type=\"mask\" id=\"m" + std::to_string(i) + "\"><ref id=\"m" + std::to_string(i - 1) + "\"/></bsdf>\n";
+    write(t / "mask_chain.xml", scene_around(masks + "<shape type=\"rectangle\"><emitter type=\"area\"/>"
+                                                     "<ref id=\"m33\"/></shape>"));
+    // 20 blends each nesting the one before twice: 2^20 evaluations per sample at the top.
+    std::string blends = "<bsdf type=\"diffuse\" id=\"d0\"/>\n";
+    for (int i = 1; i <= 20; ++i)
+      blends += "<bsdf type=\"blendbsdf\" id=\"d" + std::to_string(i) + "\"><ref id=\"d" + std::to_string(i - 1) +
+                "\"/><ref id=\"d" + std::to_string(i - 1) + "\"/></bsdf>\n";
+    write(t / "blend_doubling.xml", scene_around(blends + "<shape type=\"rectangle\"><emitter type=\"area\"/>"
+                                                          "<ref id=\"d20\"/></shape>"));
+    // 200 files each including the next (under the limit on files loaded, beyond the nesting limit).
+    for (int i = 0; i < 200; ++i)
+      write(t / ("include_chain_" + std::to_string(i) + ".xml"),
+            "<scene version=\"3.0.0\">" +
+                (i + 1 < 200 ? "<include filename=\"include_chain_" + std::to_string(i + 1) + ".xml\"/>"
+                             : std::string()) +
+                "</scene>\n");
+  }
   const std::string degenerate =
       "<shape type=\"obj\"><string name=\"filename\" value=\"" + (kCorpus / "degenerate.obj").string() + "\"/>";
   write(t / "degenerate_beside_light.xml",
@@ -417,6 +479,27 @@ void generate(const fs::path& t) {
   }
   for (const char* f : {"billions_binary.ply", "truncated_binary.ply", "huge_list.ply", "nan_binary.ply"})
     write(t / (std::string(f) + ".xml"), mesh_scene("ply", t / f));
+  // A face index beyond the vertices under smoothing (the normals are computed from the indices) and creasing.
+  for (const auto& [name, option] : {std::pair<std::string, std::string>{"smooth", ""},
+                                     {"crease", "<float name=\"max_smooth_angle\" value=\"30\"/>"}})
+    write(t / ("ply_index_" + name + ".xml"),
+          scene_around("<shape type=\"rectangle\"><emitter type=\"area\"/></shape><shape type=\"ply\">"
+                       "<string name=\"filename\" value=\"" +
+                       (kCorpus / "ply_index.ply").string() + "\"/>" + option + "</shape>"));
+  {
+    const std::string ascii_triangle = "0 0 0\n1 0 0\n0 1 0\n";
+    write(t / "ply_two_vertex_elements.ply",
+          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+          "element vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\n"
+          "property list uchar int vertex_indices\nend_header\n" +
+              ascii_triangle + ascii_triangle + "3 0 1 2\n");
+    write(t / "ply_two_x.ply",
+          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float x\nproperty float y\n"
+          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+          "0 0 0 0\n1 1 0 0\n0 0 1 0\n3 0 1 2\n");
+    for (const char* f : {"ply_two_vertex_elements.ply", "ply_two_x.ply"})
+      write(t / (std::string(f) + ".xml"), mesh_scene("ply", t / f));
+  }
 
   // Mesh attributes: a triangle with vertex colours (and alpha) and a face weight (NaN in one file), under a light,
   // its reflectance the mesh_attribute texture `tex`.
@@ -453,7 +536,18 @@ void generate(const fs::path& t) {
   write(t / "shape_table.serialized", serialized(std::string(16, '\0'), 0xffffffffu));
   write(t / "bad_zlib.serialized", serialized(random_bytes(256, 5), 1));
   write(t / "counts.serialized", serialized(serialized_shape(1ull << 31, 1ull << 31), 1));
-  for (const char* f : {"garbage.serialized", "shape_table.serialized", "bad_zlib.serialized", "counts.serialized"})
+  {  // one triangle over three vertices whose last index lies beyond them
+    std::string raw;
+    put<std::uint32_t>(raw, 0);
+    raw.push_back('\0');
+    put<std::uint64_t>(raw, 3);
+    put<std::uint64_t>(raw, 1);
+    for (const float v : triangle) put(raw, v);
+    for (const std::uint32_t i : {0u, 1u, 7u}) put(raw, i);
+    write(t / "index.serialized", serialized(zlib(raw), 1));
+  }
+  for (const char* f :
+       {"garbage.serialized", "shape_table.serialized", "bad_zlib.serialized", "counts.serialized", "index.serialized"})
     write(t / (std::string(f) + ".xml"), mesh_scene("serialized", t / f));
 
   // .vol (sdfgrid)
@@ -495,6 +589,72 @@ void generate(const fs::path& t) {
       std::memcpy(&huge[at + key.size() + 4 + 12], &max, 4);
     }
     write(t / "huge_window.exr", huge);
+  }
+  {
+    const std::string rgbe = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n";
+    write(t / "huge.hdr", rgbe + "-Y 8192 +X 16384\n" + random_bytes(64, 9));
+    // 16 × 4 flat pixels need 256 bytes; 100 are there.
+    write(t / "truncated.hdr", rgbe + "-Y 4 +X 16\n" + std::string(100, char(0x80)));
+    write(t / "header_only.png", png_header_only(8000, 8000));
+    write(t / "truncated.ppm", "P6\n64 64\n255\n" + random_bytes(100, 10));
+    image::Image noise(64, 64);
+    std::mt19937 rng(11);
+    for (auto& v : noise.rgb) v = std::uniform_real_distribution<float>(0.0f, 1.0f)(rng);
+    image::write_png(t / "whole.png", noise);
+    const std::string png = read(t / "whole.png");
+    write(t / "truncated.png", png.substr(0, png.size() / 2));
+    // The header's dataWindow made to announce 4096 × 4096 pixels (within the pixel limit) over a few hundred bytes.
+    std::string big = exr;
+    const std::string key = std::string("dataWindow\0box2i\0", 17);
+    const auto at = big.find(key);
+    if (at != std::string::npos) {
+      const std::int32_t max = 4095;
+      std::memcpy(&big[at + key.size() + 4 + 8], &max, 4);
+      std::memcpy(&big[at + key.size() + 4 + 12], &max, 4);
+    }
+    write(t / "big_window.exr", big);
+    for (const char* f :
+         {"huge.hdr", "truncated.hdr", "header_only.png", "truncated.ppm", "truncated.png", "big_window.exr"})
+      write(t / (std::string(f) + ".xml"), texture_scene(t / f));
+    write(t / "huge_envmap.hdr.xml", envmap_scene(t / "huge.hdr"));
+    write(t / "truncated_envmap.hdr.xml", envmap_scene(t / "truncated.hdr"));
+  }
+  {
+    // One texel of -4 among positive ones, the mean positive.
+    image::Image negative(8, 4);
+    for (auto& v : negative.rgb) v = 1.0f;
+    negative.pixel(3, 1)[0] = -4.0f;
+    image::write_exr(t / "negative.exr", negative);
+    const std::string bitmap = "<texture type=\"bitmap\" name=\"NAME\"><string name=\"filename\" value=\"" +
+                               (t / "negative.exr").string() + "\"/></texture>";
+    const auto named = [&](const std::string& name) {
+      std::string b = bitmap;
+      return b.replace(b.find("NAME"), 4, name);
+    };
+    const std::string light = "<shape type=\"rectangle\"><emitter type=\"area\"/></shape>";
+    write(t / "negative_texel_radiance.xml",
+          scene_around("<shape type=\"rectangle\"><emitter type=\"area\">" + named("radiance") + "</emitter></shape>"));
+    write(t / "negative_texel_reflectance.xml",
+          scene_around(light + "<shape type=\"rectangle\"><bsdf type=\"diffuse\">" + named("reflectance") +
+                       "</bsdf></shape>"));
+    write(t / "negative_texel_spot.xml",
+          scene_around(light + "<emitter type=\"spot\">" + named("texture") + "</emitter>"));
+    write(t / "negative_texel_projector.xml",
+          scene_around(light + "<emitter type=\"projector\">" + named("irradiance") + "</emitter>"));
+    write(t / "negative_scale_projector.xml",
+          scene_around(light + "<emitter type=\"projector\"><rgb name=\"irradiance\" value=\"1\"/>"
+                               "<float name=\"scale\" value=\"-2\"/></emitter>"));
+    write(t / "negative_scale_envmap.xml",
+          scene_around("<shape type=\"rectangle\"/><emitter type=\"envmap\"><string name=\"filename\" value=\"" +
+                       (t / "good.exr").string() + "\"/><float name=\"scale\" value=\"-1\"/></emitter>"));
+    write(t / "negative_pixel_envmap.xml", envmap_scene(t / "negative.exr"));
+    write(t / "negative_checker.xml",
+          scene_around(light + "<shape type=\"rectangle\"><bsdf type=\"diffuse\"><texture type=\"checkerboard\" "
+                               "name=\"reflectance\"><rgb name=\"color0\" value=\"-0.2\"/><rgb name=\"color1\" "
+                               "value=\"1\"/></texture></bsdf></shape>"));
+    write(t / "negative_blend_weight.xml",
+          scene_around(light + "<shape type=\"rectangle\"><bsdf type=\"blendbsdf\"><float name=\"weight\" "
+                               "value=\"-0.5\"/><bsdf type=\"diffuse\"/><bsdf type=\"diffuse\"/></bsdf></shape>"));
   }
   small.rgb[5] = std::numeric_limits<float>::quiet_NaN();
   image::write_exr(t / "nan.exr", small);

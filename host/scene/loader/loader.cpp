@@ -4,6 +4,7 @@
 // wrong.
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <set>
 #include <tuple>
 
@@ -25,6 +26,33 @@ using AttributeUses = std::map<std::string, std::string>;
 
 class Loader final : public loader::Context {
   static constexpr std::size_t kMaxFiles = 1024;
+  // The loader recurses through <include>s, BSDFs nested in BSDFs and <ref>s to plugins declared further down
+  // (each built where it is first referenced): XML nesting alone is bounded by the parser, but a chain of forward
+  // references is not, and 10 000 of them overflowed the stack. Real scenes nest a handful.
+  static constexpr int kMaxBuildDepth = 128;
+  // A BSDF evaluates the BSDFs it nests, and a referenced BSDF may be nested many times over: a chain of blends
+  // each nesting the previous one twice costs 2^n evaluations per sample. Both the depth and the number of BSDFs
+  // an evaluation may visit are bounded.
+  static constexpr int kMaxBsdfDepth = 32;
+  static constexpr std::size_t kMaxBsdfVisits = 1024;
+
+  // Counts one level of the loader's recursion while alive; refuses (naming the element) beyond kMaxBuildDepth.
+  class Deeper {
+   public:
+    Deeper(int& depth, const Node& n) : depth_(depth) {
+      if (++depth_ > kMaxBuildDepth) {
+        --depth_;
+        n.fail("plugins nested deeper than " + std::to_string(kMaxBuildDepth) +
+               " levels (through <include>s, nested BSDFs and <ref>s to plugins declared further down)");
+      }
+    }
+    ~Deeper() { --depth_; }
+    Deeper(const Deeper&) = delete;
+    Deeper& operator=(const Deeper&) = delete;
+
+   private:
+    int& depth_;
+  };
 
  public:
   explicit Loader(const std::map<std::string, std::string>& parameters) : params_(parameters) {}
@@ -49,8 +77,14 @@ class Loader final : public loader::Context {
   Texture texture(const Props& p, const std::string& name, const Texture& fallback) override {
     const Node* n = p.find(name);
     if (!n) return fallback;
-    if (n->tag() == "texture" || n->tag() == "ref") return texture(*n);
-    return n->color();
+    const Texture t = n->tag() == "texture" || n->tag() == "ref" ? texture(*n) : Texture(n->color());
+    // What scales light (reflectances, transmittances, a base colour, a blend's weight, a mask's opacity) must
+    // be non-negative at every texel: a negative texel would emit negative light wherever it is seen. Roughness,
+    // normal and bump maps are checked by their readers.
+    if (name.ends_with("reflectance") || name.ends_with("transmittance") || name == "base_color" || name == "weight" ||
+        name == "opacity")
+      require_non_negative(p, name, t);
+    return t;
   }
 
   Texture texture(const Node& n) override {
@@ -88,6 +122,7 @@ class Loader final : public loader::Context {
       build_declared(n.attr("id"));
       if (bsdfs_.count(n.attr("id"))) out.push_back(bsdf_reference(*p.find(name)));
     }
+    if (!nesting_.empty()) nesting_.back().insert(nesting_.back().end(), out.begin(), out.end());
     return out;
   }
 
@@ -108,6 +143,8 @@ class Loader final : public loader::Context {
   void load_file(const std::filesystem::path& path, const Node* included_from) {
     const auto canonical = std::filesystem::weakly_canonical(path);
     if (!including_.insert(canonical).second) included_from->fail("recursive include of '" + path.string() + "'");
+    std::optional<Deeper> deeper;
+    if (included_from) deeper.emplace(depth_, *included_from);
     // Files that each include the next one twice are loaded 2^depth times without any recursion; every parsed
     // file stays in memory (messages point into it). Real scenes include a handful.
     if (included_from && sources_.size() >= kMaxFiles)
@@ -190,6 +227,7 @@ class Loader final : public loader::Context {
     const auto it = declared_.find(id);
     if (it == declared_.end() || !built_.insert(it->second.xml.internal_object()).second) return;
     const Node n = it->second;
+    const Deeper deeper(depth_, n);
     const std::string t = n.tag();
     if (t == "bsdf")
       bsdf(n);
@@ -277,6 +315,7 @@ class Loader final : public loader::Context {
   }
 
   std::shared_ptr<const Bsdf> bsdf(const Node& n) {
+    const Deeper deeper(depth_, n);
     register_id(n, "bsdf");
     const Props p(n);
     const std::string type = p.type();
@@ -284,7 +323,23 @@ class Loader final : public loader::Context {
     const auto reader = loader::bsdf_reader(type);
     if (!reader) n.fail("unsupported BSDF type '" + type + "'");
     AttributeUses uses;
+    nesting_.emplace_back();
     const auto b = gathering_uses(uses, [&] { return reader(*this, p); });
+    BsdfExtent extent;
+    for (const auto& nested : nesting_.back()) {
+      const auto it = extents_.find(nested.get());
+      const BsdfExtent e = it == extents_.end() ? BsdfExtent{} : it->second;
+      extent.depth = std::max(extent.depth, e.depth + 1);
+      extent.visits += e.visits;
+    }
+    nesting_.pop_back();
+    if (extent.depth > kMaxBsdfDepth)
+      n.fail("BSDFs nested " + std::to_string(extent.depth) + " deep (through references), more than " +
+             std::to_string(kMaxBsdfDepth));
+    if (extent.visits > kMaxBsdfVisits)
+      n.fail("the BSDF nests " + std::to_string(extent.visits) + " BSDFs in all (references counted each time), " +
+             "more than " + std::to_string(kMaxBsdfVisits) + ": each evaluation would visit every one");
+    extents_[b.get()] = extent;
     bsdf_uses_[b.get()] = uses;
     p.check_all_used();
     if (n.has("id")) bsdfs_[n.attr("id")] = b;
@@ -529,8 +584,16 @@ class Loader final : public loader::Context {
   std::map<std::string, std::string> ids_;  // id → kind of element
   std::map<std::string, std::shared_ptr<const Bsdf>> bsdfs_;
   std::map<std::string, Texture> textures_;
-  std::vector<AttributeUses> attribute_scopes_;     // the materials and emitters being built, innermost last
-  std::map<const Bsdf*, AttributeUses> bsdf_uses_;  // what each material's textures read of a mesh
+  std::vector<AttributeUses> attribute_scopes_;  // the materials and emitters being built, innermost last
+  int depth_ = 0;                                // the loader's recursion (Deeper)
+  // How deep a BSDF's nesting goes and how many BSDFs one evaluation visits (itself included).
+  struct BsdfExtent {
+    int depth = 1;
+    std::size_t visits = 1;
+  };
+  std::map<const Bsdf*, BsdfExtent> extents_;
+  std::vector<std::vector<std::shared_ptr<const Bsdf>>> nesting_;  // the BSDFs nested by those being built
+  std::map<const Bsdf*, AttributeUses> bsdf_uses_;                 // what each material's textures read of a mesh
   std::map<std::string, Texture> area_emitters_;
   std::map<std::string, std::vector<Shape>> groups_;  // shapegroups by id
   std::map<std::tuple<std::string, bool, float>, std::shared_ptr<const Bitmap>> bitmaps_;

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -106,6 +107,19 @@ std::shared_ptr<const Bsdf> single_nested_bsdf(Context& ctx, const Props& p) {
   auto nested = ctx.nested_bsdfs(p);
   if (nested.size() != 1) p.node.fail("expects exactly one nested BSDF");
   return nested.front();
+}
+
+void require_non_negative(const Props& p, const std::string& property, const Texture& value) {
+  const Rgb lo = value.minimum(), mean = value.mean();
+  const auto finite = [](const Rgb& c) { return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z); };
+  if (!finite(mean) || !finite(lo))
+    p.node.fail(property + " must be non-negative and finite (it overflows to infinity)");
+  if (!(lo.x >= 0 && lo.y >= 0 && lo.z >= 0)) {
+    char smallest[32];
+    std::snprintf(smallest, sizeof smallest, "%g", double(std::min({lo.x, lo.y, lo.z})));
+    p.node.fail(property + " must be non-negative and finite" +
+                (value.is_constant() ? std::string(" (it is ") : std::string(" (a texel holds ")) + smallest + ")");
+  }
 }
 
 }  // namespace clr::scene::loader

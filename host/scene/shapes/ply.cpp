@@ -137,6 +137,10 @@ Mesh load_ply(const std::filesystem::path& path) {
       Element e;
       words >> e.name >> e.count;
       if (!words) throw InputError(path.string() + ": malformed PLY element line '" + line + "'");
+      // A second 'vertex' element would append vertices that the first's faces never meant, and a second
+      // 'face' its triangles and attributes twice over.
+      for (const auto& other : elements)
+        if (other.name == e.name) throw InputError(path.string() + ": PLY element '" + e.name + "' is declared twice");
       elements.push_back(e);
     } else if (word == "property") {
       if (elements.empty()) throw InputError(path.string() + ": PLY property before any element");
@@ -147,6 +151,10 @@ Mesh load_ply(const std::filesystem::path& path) {
       if (!words) throw InputError(path.string() + ": malformed PLY property line '" + line + "'");
       type_size(p.type, path);
       if (!p.count_type.empty()) type_size(p.count_type, path);
+      for (const auto& other : elements.back().properties)
+        if (other.name == p.name)
+          throw InputError(path.string() + ": PLY property '" + p.name + "' of element '" + elements.back().name +
+                           "' is declared twice");
       elements.back().properties.push_back(p);
     } else if (word != "comment" && word != "obj_info" && !word.empty()) {
       throw InputError(path.string() + ": unexpected PLY header line '" + line + "'");
@@ -218,6 +226,7 @@ Mesh load_ply(const std::filesystem::path& path) {
             m.attributes[first_attribute + k].values.push_back(float(values[p]));
     }
   }
+  m.check_structure(path.string());
   return m;
 }
 

@@ -130,7 +130,15 @@ Mesh load_serialized(const std::filesystem::path& path, int shape_index) {
   if (flags & kFaceNormals) m.normals.clear();
   m.triangles.resize(nt);
   for (auto& t : m.triangles)
-    for (int c = 0; c < 3; ++c) t[c] = wide ? std::uint32_t(s.get<std::uint64_t>()) : s.get<std::uint32_t>();
+    for (int c = 0; c < 3; ++c) {
+      // Checked before narrowing: a 64-bit index past the vertices would otherwise wrap onto one of them.
+      const std::uint64_t index = wide ? s.get<std::uint64_t>() : s.get<std::uint32_t>();
+      if (index >= nv)
+        throw InputError(what + ": triangle vertex index " + std::to_string(index) +
+                         " is out of range (the shape has " + std::to_string(nv) + " vertices)");
+      t[c] = std::uint32_t(index);
+    }
+  m.check_structure(what);
   return m;
 }
 
