@@ -21,6 +21,11 @@ std::string path_message(const std::filesystem::filesystem_error& e);
 // Any stderr line, bounded: a word (a path, a value, an option's argument) longer than 256 bytes keeps its start
 // and end around "…(N bytes)…", and the line at most 4 KiB — a 100 KB argument is never echoed whole, wherever a
 // message quotes it.
+// Control characters and newlines escaped first (terminal_safe), and no cut inside a UTF-8 character.
 std::string bounded_line(std::string_view line);
+
+// `text` safe to print on a terminal as part of one line: newline, carriage return and tab as \n, \r, \t; other
+// C0 and C1 control characters, DEL and bytes that are not well-formed UTF-8 as \xNN; well-formed UTF-8 kept.
+std::string terminal_safe(std::string_view text);
 
 }  // namespace clr::cli

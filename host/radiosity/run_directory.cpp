@@ -74,7 +74,7 @@ nlohmann::json scene_record(const scene::SceneFingerprint& scene) {
 
 void write_scene(const fs::path& dir, scene::SceneFingerprint scene) {
   scene.scene = fs::absolute(scene.scene).lexically_normal();
-  write_text_atomically(RunDirectory::scene_path(dir), scene_record(scene).dump(2) + "\n");
+  write_record_atomically(RunDirectory::scene_path(dir), scene_record(scene).dump(2) + "\n", "run scene record");
 }
 
 // scene.json as written by write_scene; nullopt for a run written before runs recorded their scene.
@@ -114,8 +114,9 @@ void RunDirectory::start(const TrainConfig& config, const scene::SceneFingerprin
   config_ = config;
   scene_ = scene;
   write_scene(dir_, scene);
-  write_text_atomically(config_path(dir_), nlohmann::json(config).dump(2) + "\n");
-  write_text_atomically(log_path(dir_), std::string(kLogHeader) + (config.guided() ? kGuideLogColumns : "") + "\n");
+  write_record_atomically(config_path(dir_), nlohmann::json(config).dump(2) + "\n", "run config");
+  write_record_atomically(log_path(dir_), std::string(kLogHeader) + (config.guided() ? kGuideLogColumns : "") + "\n",
+                          "run log");
 }
 
 RunDirectory RunDirectory::resume(const fs::path& dir, const scene::SceneFingerprint& scene) {
@@ -164,7 +165,7 @@ void RunDirectory::write_snapshot(const fs::path& dir, const TrainConfig& config
                                   const nn::Network* guide) const {
   fs::create_directories(dir);
   write_scene(dir, scene_);
-  write_text_atomically(config_path(dir), nlohmann::json(config).dump(2) + "\n");
+  write_record_atomically(config_path(dir), nlohmann::json(config).dump(2) + "\n", "run config");
   write_model(dir, config, network, guide);
 }
 
@@ -192,6 +193,10 @@ std::unique_ptr<nn::Network> RunDirectory::load_radiance(cl::Context& ctx, const
 std::unique_ptr<nn::Network> RunDirectory::load_guide(cl::Context& ctx, const fs::path& run) {
   const fs::path file = config_path(run);
   const nlohmann::json config = read_json_file(file, "run config");
+  // Types checked before the values are read: nlohmann's type_error would otherwise end the command as a raw
+  // library message with exit 1.
+  if (!config.is_object() || (config.contains("method") && !config.at("method").is_string()))
+    throw InputError(file.string() + ": not a run config ('method' must be a string)");
   if (config.value("method", to_string(Method::Nr)) != std::string(to_string(Method::Isnr)) ||
       !config.contains("guide"))
     throw InputError(run.string() + " was trained without an I-Module (method nr): there is no guide to read");
