@@ -1,12 +1,17 @@
 #include "cl/context.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "cl/error.hpp"
+#include "cl/no_platform.hpp"
 
 namespace clr::cl {
 
 Context::Context(DeviceInfo device) : device_(std::move(device)) {
+  // Found before any work: each kernel build would otherwise fail with an empty build log.
+  if (const std::string cause = pocl_cache_cause(device_.platform_name); !cause.empty())
+    throw std::runtime_error(cause);
   cl_int status = CL_SUCCESS;
   const cl_context_properties props[] = {CL_CONTEXT_PLATFORM, reinterpret_cast<cl_context_properties>(device_.platform),
                                          0};

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "cl/error.hpp"
 #include "cli/command.hpp"
@@ -116,6 +117,19 @@ int run(int argc, char** argv) {
       return 1;
     }
     std::cerr << "clradiosity: error: " << rank_prefix() << clr::cli::bounded_line(clr::cli::path_message(e)) << "\n";
+    return 2;
+  } catch (const nlohmann::json::type_error& e) {
+    // Every JSON the program reads is checked where it is read; what reaches here is a record or output that
+    // cannot be written: JSON holds UTF-8 only, and a file or folder name given may be any bytes (type_error 316).
+    if (e.id != 316) {
+      std::cerr << "clradiosity: failed: " << rank_prefix() << clr::cli::bounded_line(e.what()) << "\n";
+      return 1;
+    }
+    std::cerr << "clradiosity: error: " << rank_prefix()
+              << clr::cli::bounded_line(std::string("a file or folder name given is not valid UTF-8, which the run's "
+                                                    "JSON records cannot hold: rename it (") +
+                                        e.what() + ")")
+              << "\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "clradiosity: failed: " << rank_prefix()

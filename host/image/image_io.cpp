@@ -94,8 +94,8 @@ void check_stb_header(const std::string& bytes, const fs::path& path, int& w, in
 
 void check_not_starved(const StbSource& source, const fs::path& path) {
   if (source.starved)
-    throw InputError("image " + path.string() + " is truncated: its pixels end before the " +
-                     std::to_string(source.bytes.size()) + "-byte file does");
+    throw InputError("image " + path.string() + " is truncated: its " + std::to_string(source.bytes.size()) +
+                     " bytes end before the pixels its header announces");
 }
 
 }  // namespace

@@ -177,6 +177,8 @@ NetworkConfig merge_patch(const NetworkConfig& base, const nlohmann::json& patch
 }
 
 NetworkConfig network_config_from_json(const nlohmann::json& j) {
+  // Anything but an object would read as "every key absent", i.e. the defaults, whatever the file held.
+  if (!j.is_object()) throw InputError("network config must be a JSON object, not " + clip(j.dump()));
   NetworkConfig c;
   std::string at;
   try {

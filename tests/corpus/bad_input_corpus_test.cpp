@@ -39,10 +39,10 @@ struct Result {
   std::string err;
 };
 
-// Runs clradiosity with shell-word `args` under the limits above.
-Result run_limited(const std::string& args, const fs::path& dir) {
+// Runs clradiosity with shell-word `args` under the limits above, with the environment's `env` (NAME=value words).
+Result run_limited(const std::string& args, const fs::path& dir, const std::string& env = "") {
   const fs::path err = dir / ("stderr_" + std::to_string(::getpid()) + ".txt");
-  const std::string cmd = "ulimit -v " + std::to_string(kAddressSpaceKiB) + "; exec timeout " +
+  const std::string cmd = "ulimit -v " + std::to_string(kAddressSpaceKiB) + "; exec env " + env + " timeout " +
                           std::to_string(kSeconds) + " '" + CLR_CLI_PATH + "' " + args + " >/dev/null 2>'" +
                           err.string() + "' </dev/null";
   const int status = std::system(cmd.c_str());
@@ -377,6 +377,22 @@ const std::vector<Case>& cases() {
        "tensor 'mlp.params'"},
       {"checkpoint_config_not_json", "render '{box}' --model '{t}/not_json_run' -o '{t}/out.exr'", 2,
        "malformed JSON in the network config of checkpoint"},
+      // One terminal-safe line: control characters escaped, invalid UTF-8 shown as bytes, never printed raw.
+      generated_case("newline_type.xml", "unsupported shape type 'te\\napot'"),
+      generated_case("escape_type.xml", "unsupported shape type '\\x1b[31mred'"),
+      {"option_bytes", "reference '{box}' --spp '1\xff' -o '{t}/out.exr'", 2, "\\xff"},
+      {"scene_name_not_utf8", "train '{t}/box\xff.xml' --steps 1 -o '{t}/run'", 2, "is not valid UTF-8"},
+      // Refused before the work: names the file system cannot hold, an output FIFO that nobody reads.
+      {"output_name_too_long", "reference '{box}' --spp 1 -o '{t}/" + std::string(300, 'n') + ".exr'", 2,
+       "a file name may have"},
+      {"error_map_name_too_long",
+       "compare '{t}/good.exr' '{t}/good.exr' --error-map '{t}/" + std::string(300, 'm') + ".png'", 2,
+       "a file name may have"},
+      {"render_png_name_too_long",
+       "render '{box}' --model '{t}/none' -o '{t}/out.exr' --png '{t}/" + std::string(256, 'p') + "'", 2,
+       "a file name may have"},
+      {"output_fifo_unread", "reference '{box}' --spp 1 --width 4 --height 4 -o '{t}/out_fifo'", 2,
+       "is a FIFO that no process reads"},
       // images compared
       {"compare_garbage", "compare '{t}/garbage.exr' '{t}/garbage.exr'", 2, "cannot read EXR"},
       {"compare_huge_window", "compare '{t}/huge_window.exr' '{t}/huge_window.exr'", 2, "EXR"},
@@ -707,6 +723,10 @@ void generate(const fs::path& t) {
   write(t / "seed_negative.json", R"({"seed": -1})");
   // FIFOs where a file is read: opening one for reading would block until a writer came.
   ::mkfifo((t / "fifo").c_str(), 0600);
+  ::mkfifo((t / "out_fifo").c_str(), 0600);  // an output no process reads
+  write(t / "newline_type.xml", scene_around("<shape type=\"te&#10;apot\"/>"));
+  write(t / "escape_type.xml", scene_around("<shape type=\"&#27;[31mred\"/>"));
+  fs::copy_file(kBox, t / "box\xff.xml");
   fs::create_directories(t / "fifo_run");
   ::mkfifo((t / "fifo_run" / "model.clr").c_str(), 0600);
   // Run directories to resume whose own files are bad (the checkpoint itself is never reached).
@@ -775,6 +795,52 @@ TEST(BadInputCorpusOutput, DevNullStaysADevice) {
                              fs::temp_directory_path());
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::is_character_file("/dev/null")) << "/dev/null was replaced by a regular file";
+}
+
+// PoCL's kernel cache as it is now, so that a test that changes XDG_CACHE_HOME does not recompile every kernel.
+std::string pocl_cache() {
+  if (const char* dir = std::getenv("POCL_CACHE_DIR"); dir && *dir) return dir;
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return (fs::path(xdg) / "pocl").string();
+  if (const char* home = std::getenv("HOME"); home && *home) return (fs::path(home) / ".cache" / "pocl").string();
+  return "";
+}
+
+// A FIFO where the GEMM probe cache is kept is neither read nor written (writing through it blocked `train` for
+// good before its first step): the run trains, the FIFO stays.
+TEST(BadInputCorpusOutput, ProbeCacheFifoIsNotWrittenThrough) {
+  if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL device";
+  const fs::path dir = fs::temp_directory_path() / ("clr_probe_fifo_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "xdg" / "clradiosity");
+  const fs::path fifo = dir / "xdg" / "clradiosity" / "gemm_probe.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const auto r =
+      run_limited("train '" + kBox.string() + "' --steps 1 --batch 256 -o '" + (dir / "run").string() + "'", dir,
+                  "XDG_CACHE_HOME='" + (dir / "xdg").string() + "' POCL_CACHE_DIR='" + pocl_cache() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  fs::remove_all(dir);
+}
+
+// An unusable PoCL kernel cache folder is named before any kernel is built (PoCL registers its platform anyway and
+// then fails every build with an empty log).
+TEST(BadInputCorpusOutput, UnusablePoclCacheIsNamed) {
+  bool pocl = false;
+  for (const auto& d : cl::list_devices())
+    pocl = pocl || d.platform_name.find("Portable Computing Language") != std::string::npos;
+  if (!pocl) GTEST_SKIP() << "no PoCL device";
+  const fs::path dir = fs::temp_directory_path() / ("clr_pocl_cache_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  write(dir / "a_file", "x");
+  const auto r =
+      run_limited("train '" + kBox.string() + "' --device pocl --steps 1 -o '" + (dir / "run").string() + "'", dir,
+                  "POCL_CACHE_DIR='" + (dir / "a_file").string() + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("kernel cache folder is not usable"));
+  EXPECT_THAT(r.err, HasSubstr((dir / "a_file").string()));
+  fs::remove_all(dir);
 }
 
 }  // namespace
