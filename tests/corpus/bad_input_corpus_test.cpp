@@ -221,7 +221,7 @@ const std::vector<Case>& cases() {
       generated_case("negative_scale_projector.xml", "<emitter type=\"projector\">: scale must be non-negative"),
       generated_case("negative_scale_envmap.xml", "<emitter type=\"envmap\">: scale must be non-negative"),
       generated_case("negative_pixel_envmap.xml", "environment map has a negative pixel at (3, 1)"),
-      generated_case("negative_checker.xml", "reflectance must be non-negative and finite (it is"),
+      generated_case("negative_checker.xml", "reflectance must be non-negative and finite (a texel holds -0.2)"),
       generated_case("negative_blend_weight.xml", "weight must be non-negative and finite (it is -0.5)"),
       scene_case("missing_mesh.xml", "not found"),
       scene_case("bad_spectrum.xml", "<spectrum name=\"radiance\">: wavelengths must increase"),
@@ -391,8 +391,6 @@ const std::vector<Case>& cases() {
       {"render_png_name_too_long",
        "render '{box}' --model '{t}/none' -o '{t}/out.exr' --png '{t}/" + std::string(256, 'p') + "'", 2,
        "a file name may have"},
-      {"output_fifo_unread", "reference '{box}' --spp 1 --width 4 --height 4 -o '{t}/out_fifo'", 2,
-       "is a FIFO that no process reads"},
       // images compared
       {"compare_garbage", "compare '{t}/garbage.exr' '{t}/garbage.exr'", 2, "cannot read EXR"},
       {"compare_huge_window", "compare '{t}/huge_window.exr' '{t}/huge_window.exr'", 2, "EXR"},
@@ -628,7 +626,8 @@ void generate(const fs::path& t) {
       std::memcpy(&big[at + key.size() + 4 + 8], &max, 4);
       std::memcpy(&big[at + key.size() + 4 + 12], &max, 4);
     }
-    write(t / "big_window.exr", big);
+    // Padded past the line offset table OpenEXR reads first (256 chunks of 16 lines): the pixels are what is missing.
+    write(t / "big_window.exr", big + std::string(256 * 8 + 64, '\0'));
     for (const char* f :
          {"huge.hdr", "truncated.hdr", "header_only.png", "truncated.ppm", "truncated.png", "big_window.exr"})
       write(t / (std::string(f) + ".xml"), texture_scene(t / f));
@@ -723,7 +722,6 @@ void generate(const fs::path& t) {
   write(t / "seed_negative.json", R"({"seed": -1})");
   // FIFOs where a file is read: opening one for reading would block until a writer came.
   ::mkfifo((t / "fifo").c_str(), 0600);
-  ::mkfifo((t / "out_fifo").c_str(), 0600);  // an output no process reads
   write(t / "newline_type.xml", scene_around("<shape type=\"te&#10;apot\"/>"));
   write(t / "escape_type.xml", scene_around("<shape type=\"&#27;[31mred\"/>"));
   fs::copy_file(kBox, t / "box\xff.xml");
@@ -795,6 +793,21 @@ TEST(BadInputCorpusOutput, DevNullStaysADevice) {
                              fs::temp_directory_path());
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::is_character_file("/dev/null")) << "/dev/null was replaced by a regular file";
+}
+
+// An output FIFO that no process reads ends the command with its line (found when the output is written: opening a
+// FIFO to test it would end a reader's input early), instead of waiting for a reader forever.
+TEST(BadInputCorpusOutput, OutputFifoWithoutReaderEnds) {
+  const fs::path dir = fs::temp_directory_path() / ("clr_out_fifo_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  ASSERT_EQ(::mkfifo((dir / "out.exr").c_str(), 0600), 0);
+  const auto r = run_limited(
+      "reference '" + kBox.string() + "' --spp 1 --width 4 --height 4 -o '" + (dir / "out.exr").string() + "'", dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("is a FIFO that no process reads"));
+  EXPECT_TRUE(fs::is_fifo(dir / "out.exr"));
+  fs::remove_all(dir);
 }
 
 // PoCL's kernel cache as it is now, so that a test that changes XDG_CACHE_HOME does not recompile every kernel.
