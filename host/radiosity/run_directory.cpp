@@ -93,6 +93,8 @@ std::optional<scene::SceneFingerprint> read_scene(const fs::path& dir) {
     throw InputError(file.string() + ": not a run's scene record (" + clip(e.what()) + ")");
   }
   require_known_and_kept(j, scene_record(f), file.string());
+  if (scene::files_digest(f.files) != f.digest)
+    throw InputError(file.string() + ": its digest does not match the files it lists (the record was edited)");
   return f;
 }
 
@@ -127,8 +129,6 @@ RunDirectory RunDirectory::resume(const fs::path& dir, const scene::SceneFingerp
   run.seconds_trained_ = logged_seconds(log_path(dir));
   require_scene(dir, scene);
   run.scene_ = scene;
-  // A run from before scene records gets one now: its later readers are checked.
-  if (!read_scene(dir)) write_scene(dir, scene);
   return run;
 }
 
@@ -178,9 +178,15 @@ double RunDirectory::training_seconds(const fs::path& run) { return logged_secon
 
 void RunDirectory::require_scene(const fs::path& run, const scene::SceneFingerprint& scene) {
   const auto recorded = read_scene(run_folder(run));
-  // A run written before runs recorded their scene (or not a run at all: reading it fails next, with its own
-  // message) is not checked; resuming it records the scene.
-  if (!recorded || *recorded == scene) return;
+  // A model without its scene record cannot be matched to a scene: adopting it under the scene given now would
+  // answer with another scene's box and inputs. (A folder without a model is not a run; reading it fails next.)
+  if (!recorded) {
+    if (fs::exists(fs::is_directory(run) ? model_path(run) : run))
+      throw InputError(run.string() + " holds a model but no scene record (" + scene_path(run_folder(run)).string() +
+                       "): the scene it was trained on cannot be checked; train it again");
+    return;
+  }
+  if (*recorded == scene) return;
   throw InputError(run.string() + " was trained on " + recorded->scene.string() + " (scene digest " + recorded->digest +
                    "); " + scene.scene.string() + " is another scene (digest " + scene.digest + ": " +
                    scene::difference(*recorded, scene) + ")");

@@ -130,7 +130,8 @@ void run_sweep(cl::Context& ctx, const SweepOptions& options) {
                        {"render_spp", "--spp"},
                        {"residual_points", "--residual-points"},
                        {"residual_samples", "--residual-samples"},
-                       {"config", "--config"}});
+                       {"config", "--config"}},
+                      fs::exists(results) ? "rows (results.csv)" : "");
   install_stop_handlers();
   const geometry::Geometry geometry(scene);
   const image::Image reference = reference_image(geometry, o, width, height);
