@@ -81,7 +81,10 @@ int render_walkthrough(const Options& opt, const scene::Scene& scene, const geom
     return 0;
   }
   if (!opt.video.empty()) {
-    walkthrough::write_video(opt.output, cameras.size(), opt.fps, opt.video);
+    if (!walkthrough::write_video(opt.output, cameras.size(), opt.fps, opt.video)) {
+      std::printf("render: stopped while the video was written; the frames are kept\n");
+      return 0;
+    }
     std::printf("video: %s (%zu frames at %g fps)\n", opt.video.c_str(), cameras.size(), opt.fps);
   }
   if (opt.path_tracer_check > 0) {
@@ -93,6 +96,10 @@ int render_walkthrough(const Options& opt, const scene::Scene& scene, const geom
     // The path's own throughput, where this process rendered it: more frames, a steadier figure than K.
     if (done.rendered > 0) check.model_seconds_per_frame = done.seconds / double(done.rendered);
     const auto b = walkthrough::measure_break_even(geometry, cameras, field, check);
+    if (stop_requested()) {
+      std::printf("render: stopped during the break-even check; the frames are kept, no figures were written\n");
+      return 0;
+    }
     for (const auto& c : b.checks)
       std::printf("frame %zu: model MAPE %.4f; path tracer %.2f s to reach it (%d spp measured%s)\n", c.frame,
                   c.model_mape, c.path_tracer_seconds, c.path_tracer_spp, c.extrapolated ? ", extrapolated" : "");

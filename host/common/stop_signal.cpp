@@ -21,8 +21,9 @@ extern "C" void on_stop_signal(int sig) {
 // A stop already requested stays requested: a sweep installs the handlers once and runs one training after
 // another, each installing them again, and a Ctrl-C between two trainings must stop the next one too.
 void install_stop_handlers() {
-  std::signal(SIGINT, on_stop_signal);
-  std::signal(SIGTERM, on_stop_signal);
+  // SIGHUP (the terminal closed) ends the work as cleanly as Ctrl-C: a checkpoint, not a kill. SIGQUIT (Ctrl-\)
+  // and SIGUSR1 too, rather than a core dump or a kill that loses the work since the last checkpoint.
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1}) std::signal(sig, on_stop_signal);
   struct sigaction continued {};
   continued.sa_handler = on_continue;
   continued.sa_flags = SA_RESTART;  // a pause must not fail a read or write with EINTR

@@ -1,7 +1,8 @@
 #pragma once
-// SIGINT/SIGTERM ask long work to stop at its next safe point (a trainer writes a checkpoint) instead of killing
-// the process mid-write; the process then exits 128 + the signal's number (130, 143), as a shell reports a process
-// the signal ended, so that `train && render` does not go on. A second signal falls back to the default action.
+// SIGINT/SIGTERM (and SIGHUP, a closed terminal, SIGQUIT and SIGUSR1) ask long work to stop at its next safe point (a
+// trainer writes a checkpoint) instead of killing the process mid-write; the process then exits 128 + the signal's
+// number (130, 143), as a shell reports a process the signal ended, so that `train && render` does not go on. A second
+// signal falls back to the default action.
 namespace clr {
 
 void install_stop_handlers();

@@ -181,8 +181,8 @@ void RunDirectory::require_scene(const fs::path& run, const scene::SceneFingerpr
   // A model without its scene record cannot be matched to a scene: adopting it under the scene given now would
   // answer with another scene's box and inputs. (A folder without a model is not a run; reading it fails next.)
   if (!recorded) {
-    if (fs::exists(fs::is_directory(run) ? model_path(run) : run))
-      throw InputError(run.string() + " holds a model but no scene record (" + scene_path(run_folder(run)).string() +
+    if (const fs::path model = fs::is_directory(run) ? model_path(run) : run; fs::exists(model))
+      throw InputError(model.string() + ": the model has no scene record (" + scene_path(run_folder(run)).string() +
                        "): the scene it was trained on cannot be checked; train it again");
     return;
   }

@@ -32,6 +32,19 @@ TEST(FaultMessage, OutOfDeviceMemoryNamesTheOptionsToLower) {
   EXPECT_THAT(cli::failure_message(std::bad_alloc(), "train"), HasSubstr("--batch"));
 }
 
+// Host memory running out names what fills it for that command: `reference` has no model and no device.
+TEST(FaultMessage, OutOfHostMemoryNamesWhatFillsIt) {
+  const std::string reference = cli::failure_message(std::bad_alloc(), "reference");
+  EXPECT_THAT(reference, HasSubstr("out of host memory"));
+  EXPECT_THAT(reference, HasSubstr("--width"));
+  EXPECT_THAT(reference, HasSubstr("meshes, textures"));
+  EXPECT_THAT(reference, Not(HasSubstr("model")));
+  EXPECT_THAT(reference, Not(HasSubstr("--device")));
+  EXPECT_THAT(cli::failure_message(std::bad_alloc(), "compare"), HasSubstr("images"));
+  EXPECT_THAT(cli::failure_message(std::bad_alloc(), "render"), Not(HasSubstr("too large for this device")));
+  EXPECT_THAT(cli::failure_message(cl_error(CL_OUT_OF_RESOURCES), "render"), HasSubstr("out of device memory"));
+}
+
 TEST(FaultMessage, OtherErrorsAreLeftAsTheyAre) {
   const std::string line = cli::failure_message(cl_error(CL_INVALID_KERNEL_ARGS), "train");
   EXPECT_EQ(line, cl_error(CL_INVALID_KERNEL_ARGS).what());

@@ -20,6 +20,8 @@
 #include "image/image.hpp"
 #include "nn/checkpoint.hpp"
 #include "nn/network.hpp"
+#include "scene/fingerprint.hpp"
+#include "scene/scene.hpp"
 
 namespace clr::test {
 namespace {
@@ -678,9 +680,19 @@ void generate(const fs::path& t) {
   write(t / "nan_texture.exr.xml", texture_scene(t / "nan.exr"));
   write(t / "nan_envmap.exr.xml", envmap_scene(t / "nan.exr"));
 
-  // Checkpoints (render --model RUN_DIR).
-  for (const char* run : {"garbage_run", "truncated_run", "hostile_run", "not_json_run"})
+  // Checkpoints (render --model RUN_DIR), each beside the box's scene record: a model without one is refused before
+  // its checkpoint is read.
+  nlohmann::json box_record;
+  {
+    const auto f = scene::fingerprint(scene::load_scene(kBox));
+    nlohmann::json files = nlohmann::json::array();
+    for (const auto& e : f.files) files.push_back({{"name", e.name}, {"digest", e.digest}});
+    box_record = {{"scene", f.scene.string()}, {"digest", f.digest}, {"files", files}};
+  }
+  for (const char* run : {"garbage_run", "truncated_run", "hostile_run", "not_json_run"}) {
     fs::create_directories(t / run);
+    write(t / run / "scene.json", box_record.dump());
+  }
   write(t / "garbage_run" / "model.clr", random_bytes(4096, 8));
   nn::Checkpoint c;
   c.config_json = nn::to_json(nn::NetworkConfig{}).dump();
@@ -726,6 +738,7 @@ void generate(const fs::path& t) {
   write(t / "escape_type.xml", scene_around("<shape type=\"&#27;[31mred\"/>"));
   fs::copy_file(kBox, t / "box\xff.xml");
   fs::create_directories(t / "fifo_run");
+  write(t / "fifo_run" / "scene.json", box_record.dump());
   ::mkfifo((t / "fifo_run" / "model.clr").c_str(), 0600);
   // Run directories to resume whose own files are bad (the checkpoint itself is never reached).
   for (const char* run : {"fifo_config_run", "malformed_config_run", "nan_log_run"}) {
