@@ -268,6 +268,9 @@ const std::vector<Case>& cases() {
       generated_case("ply_two_vertex_elements.ply.xml", "PLY element 'vertex' is declared twice"),
       generated_case("ply_two_x.ply.xml", "PLY property 'x' of element 'vertex' is declared twice"),
       generated_case("index.serialized.xml", "triangle vertex index 7 is out of range"),
+      // A valid triangle followed by 3 GiB of zeros in its zlib stream (3 MB on disk): read as the triangle it is,
+      // never inflated whole (beyond the 4 GiB address-space limit of these rows).
+      generated_case("bomb.serialized.xml", "", 0),
       // Mesh attributes (mesh_attribute textures)
       generated_case("attribute_missing.xml",
                      "mesh_attribute texture 'tex' reads attribute 'face_color', which shape 'attributed' does not "
@@ -561,9 +564,32 @@ void generate(const fs::path& t) {
     for (const float v : triangle) put(raw, v);
     for (const std::uint32_t i : {0u, 1u, 7u}) put(raw, i);
     write(t / "index.serialized", serialized(zlib(raw), 1));
+    raw.resize(raw.size() - 4);
+    put<std::uint32_t>(raw, 2);
+    // The same triangle, valid, then 3 GiB of zeros, deflated a chunk at a time.
+    z_stream z{};
+    deflateInit(&z, Z_BEST_SPEED);
+    std::string bomb;
+    const std::string zeros(1 << 20, '\0');
+    char out[1 << 16];
+    const auto pump = [&](const std::string& in, int flush) {
+      z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(in.data()));
+      z.avail_in = uInt(in.size());
+      do {
+        z.next_out = reinterpret_cast<Bytef*>(out);
+        z.avail_out = sizeof out;
+        deflate(&z, flush);
+        bomb.append(out, sizeof out - z.avail_out);
+      } while (z.avail_out == 0);
+    };
+    pump(raw, Z_NO_FLUSH);
+    for (int i = 0; i < 3 * 1024; ++i) pump(zeros, Z_NO_FLUSH);
+    pump("", Z_FINISH);
+    deflateEnd(&z);
+    write(t / "bomb.serialized", serialized(bomb, 1));
   }
-  for (const char* f :
-       {"garbage.serialized", "shape_table.serialized", "bad_zlib.serialized", "counts.serialized", "index.serialized"})
+  for (const char* f : {"garbage.serialized", "shape_table.serialized", "bad_zlib.serialized", "counts.serialized",
+                        "index.serialized", "bomb.serialized"})
     write(t / (std::string(f) + ".xml"), mesh_scene("serialized", t / f));
 
   // .vol (sdfgrid)
