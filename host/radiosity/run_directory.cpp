@@ -179,9 +179,10 @@ double RunDirectory::training_seconds(const fs::path& run) { return logged_secon
 void RunDirectory::require_scene(const fs::path& run, const scene::SceneFingerprint& scene) {
   const auto recorded = read_scene(run_folder(run));
   // A model without its scene record cannot be matched to a scene: adopting it under the scene given now would
-  // answer with another scene's box and inputs. (A folder without a model is not a run; reading it fails next.)
+  // answer with another scene's box and inputs. (A folder without a model is not a run, and a model that is no
+  // regular file is no checkpoint: reading it fails next, with its own message.)
   if (!recorded) {
-    if (const fs::path model = fs::is_directory(run) ? model_path(run) : run; fs::exists(model))
+    if (const fs::path model = fs::is_directory(run) ? model_path(run) : run; fs::is_regular_file(model))
       throw InputError(model.string() + ": the model has no scene record (" + scene_path(run_folder(run)).string() +
                        "): the scene it was trained on cannot be checked; train it again");
     return;
