@@ -6,16 +6,22 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
+#include <thread>
 
 #include "common/error.hpp"
 #include "common/input_file.hpp"
+#include "common/stop_signal.hpp"
 
 namespace clr {
 namespace fs = std::filesystem;
 namespace {
+
+// How long an output FIFO may wait for its reader to open it.
+constexpr int kFifoReaderSeconds = 10;
 
 // Runs `write` on `tmp` and hands the finished file to `place`; the temporary never outlives a failure.
 void write_then(const fs::path& tmp, const std::function<void(const fs::path&)>& write,
@@ -43,10 +49,16 @@ std::string temporary_name(const std::string& prefix, const std::string& name, c
 // Plain write(2), so that the reason of a failure (ENOSPC on a full disk, /dev/full) reaches the message.
 void copy_into(const fs::path& from, const fs::path& to) {
   std::ifstream in(from, std::ios::binary);
-  // Opened without blocking: a FIFO that no process reads would otherwise hold the command here forever.
-  const int fd = ::open(to.c_str(), O_WRONLY | O_CLOEXEC | O_NONBLOCK);
+  // Opened without blocking: a FIFO that no process reads would otherwise hold the command here forever. A reader
+  // started beside the command may open its end a moment later, so one is waited for, but not for long.
+  int fd = -1;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(kFifoReaderSeconds);
+  while ((fd = ::open(to.c_str(), O_WRONLY | O_CLOEXEC | O_NONBLOCK)) < 0 && errno == ENXIO &&
+         std::chrono::steady_clock::now() < give_up && !stop_requested())
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   if (fd < 0 && errno == ENXIO)
-    throw InputError("output " + to.string() + " is a FIFO that no process reads: nothing was written");
+    throw InputError("output " + to.string() + " is a FIFO that no process read within " +
+                     std::to_string(kFifoReaderSeconds) + " s: nothing was written");
   if (fd < 0) throw std::runtime_error("cannot open " + to.string() + " for writing: " + std::strerror(errno));
   // Written blocking from here: a reader that is slower than this process must get the whole output.
   ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
