@@ -198,6 +198,8 @@ const std::vector<Case>& cases() {
       generated_case("include_chain_0.xml", "plugins nested deeper than 128 levels"),
       generated_case("mask_chain.xml", "BSDFs nested 33 deep"),
       generated_case("blend_doubling.xml", "BSDFs in all"),
+      // Memory budgeted before it is spent: 300 instances of a group holding a sphere are 79 million triangles.
+      generated_case("instance_bomb.xml", "<shape type=\"instance\">: the scene reaches"),
       scene_case("laughs.xml", "after $parameter substitution"),
       scene_case("no_emitter.xml", "no emitter"),
       scene_case("zero_emitter.xml", "no emitter"),
@@ -456,6 +458,11 @@ void generate(const fs::path& t) {
                 "\"/><ref id=\"d" + std::to_string(i - 1) + "\"/></bsdf>\n";
     write(t / "blend_doubling.xml", scene_around(blends + "<shape type=\"rectangle\"><emitter type=\"area\"/>"
                                                           "<ref id=\"d20\"/></shape>"));
+    std::string instances =
+        "<shape type=\"rectangle\"><emitter type=\"area\"/></shape>\n<shape type=\"shapegroup\" id=\"g\">"
+        "<shape type=\"sphere\"/></shape>\n";
+    for (int i = 0; i < 300; ++i) instances += "<shape type=\"instance\"><ref id=\"g\"/></shape>\n";
+    write(t / "instance_bomb.xml", scene_around(instances));
     // 200 files each including the next (under the limit on files loaded, beyond the nesting limit).
     for (int i = 0; i < 200; ++i)
       write(t / ("include_chain_" + std::to_string(i) + ".xml"),

@@ -35,6 +35,10 @@ class Loader final : public loader::Context {
   // an evaluation may visit are bounded.
   static constexpr int kMaxBsdfDepth = 32;
   static constexpr std::size_t kMaxBsdfVisits = 1024;
+  // Triangles the whole scene may hold, instances' copies included: each costs its mesh and Embree's structures
+  // (more than 100 bytes), so 2^25 is several GiB. Counted as shapes are built, so that an instance bomb (a large
+  // group instanced thousands of times) is refused before its copies are made, naming the element that crossed it.
+  static constexpr std::size_t kMaxSceneTriangles = std::size_t(1) << 25;
 
   // Counts one level of the loader's recursion while alive; refuses (naming the element) beyond kMaxBuildDepth.
   class Deeper {
@@ -358,6 +362,14 @@ class Loader final : public loader::Context {
     if (type == "shapegroup") return shapegroup(n);
     if (type == "instance") return instance(n);
     scene_.shapes.push_back(build_shape(n));
+    count_triangles(n, scene_.shapes.back().mesh.triangles.size());
+  }
+
+  void count_triangles(const Node& n, std::size_t added) {
+    triangles_ += added;
+    if (triangles_ > kMaxSceneTriangles)
+      n.fail("the scene reaches " + std::to_string(triangles_) + " triangles with this shape, more than the " +
+             std::to_string(kMaxSceneTriangles) + " it may hold (instances count each copy)");
   }
 
   // Mitsuba's `shapegroup`: shapes that are not rendered themselves, only through `instance`s of the group.
@@ -372,6 +384,7 @@ class Loader final : public loader::Context {
       if (type == "shapegroup" || type == "instance") o.fail("shapegroups do not nest (as in Mitsuba)");
       group.push_back(build_shape(o));
       if (group.back().is_emitter()) o.fail("a shape in a shapegroup cannot emit (as in Mitsuba)");
+      count_triangles(o, group.back().mesh.triangles.size());
     }
     p.check_all_used();
     if (group.empty()) n.fail("the shapegroup holds no shape");
@@ -400,6 +413,9 @@ class Loader final : public loader::Context {
     check_to_world(n, to_world);
     p.check_all_used();
     const std::string id = n.attr_or("id", "instance " + std::to_string(scene_.shapes.size()));
+    std::size_t copies = 0;
+    for (const Shape& member : group->second) copies += member.mesh.triangles.size();
+    count_triangles(n, copies);
     for (const Shape& member : group->second) {
       Shape s = member;
       s.id = id + "/" + member.id;
@@ -586,6 +602,7 @@ class Loader final : public loader::Context {
   std::map<std::string, Texture> textures_;
   std::vector<AttributeUses> attribute_scopes_;  // the materials and emitters being built, innermost last
   int depth_ = 0;                                // the loader's recursion (Deeper)
+  std::size_t triangles_ = 0;                    // in the scene's shapes, groups and instances so far
   // How deep a BSDF's nesting goes and how many BSDFs one evaluation visits (itself included).
   struct BsdfExtent {
     int depth = 1;
