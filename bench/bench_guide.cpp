@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <memory>
 
 #include "cl/context.hpp"
 #include "common/pcg32.hpp"
@@ -19,6 +20,7 @@
 #include "radiosity/guide/vmf_mixture.hpp"
 #include "radiosity/trainer.hpp"
 #include "scene/scene.hpp"
+#include "stage_report.hpp"
 
 namespace {
 
@@ -92,34 +94,47 @@ int main(int argc, char** argv) {
   config.steps = 1000000;
   config.log_every = 1000000;
   config.checkpoint_every = 1000000;
-  config.method = radiosity::Method::Nr;
-  radiosity::Trainer nr(ctx, geometry, config, tmp / "nr", false);
-  config.method = radiosity::Method::Isnr;
-  config.guide_warmup = 0.0;  // steps at the guided share the run settles at
-  radiosity::Trainer isnr(ctx, geometry, config, tmp / "isnr", false);
-  for (int i = 0; i < 5; ++i) {  // warm-up: program builds, buffer growth, the GEMM probe
-    nr.step();
-    isnr.step();
-  }
-  ctx.finish();
-  double t_nr = 0, t_isnr = 0;
-  const auto time_block = [&](radiosity::Trainer& t) {
-    const auto start = std::chrono::steady_clock::now();
-    for (int i = 0; i < kBlock; ++i) t.step();
-    ctx.finish();
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / kBlock;
+  config.guide_warmup = 0.0;  // ISNR at the guided share the run settles at
+  // NR, ISNR, and ISNR with the lagged guide (its guided directions traced while the device runs the step before).
+  struct Row {
+    const char* name;
+    std::unique_ptr<radiosity::Trainer> trainer;
+    radiosity::HostStageTimes host;
+    double step_s = 0, device_s = 0;
   };
-  for (int r = 0; r < rounds; ++r) {
-    t_nr += time_block(nr) / rounds;
-    t_isnr += time_block(isnr) / rounds;
+  Row rows[3] = {{"NR", nullptr, {}, 0, 0}, {"ISNR", nullptr, {}, 0, 0}, {"ISNR lag 1", nullptr, {}, 0, 0}};
+  for (int i = 0; i < 3; ++i) {
+    config.method = i == 0 ? radiosity::Method::Nr : radiosity::Method::Isnr;
+    config.guide_lag = i == 2 ? 1 : 0;
+    rows[i].trainer = std::make_unique<radiosity::Trainer>(ctx, geometry, config, tmp / rows[i].name, false);
   }
+  for (int i = 0; i < 5; ++i)  // warm-up: program builds, buffer growth, the GEMM probe
+    for (auto& r : rows) r.trainer->step();
+  ctx.finish();
+  // Host stages and the device's busy time of the same blocks.
+  for (auto& r : rows) r.trainer->time_host_stages(&r.host);
+  for (int round = 0; round < rounds; ++round)
+    for (auto& r : rows) {
+      ctx.record_device_time(true);
+      const auto start = std::chrono::steady_clock::now();
+      for (int i = 0; i < kBlock; ++i) r.trainer->step();
+      ctx.finish();
+      r.step_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / kBlock / rounds;
+      r.device_s += ctx.take_device_seconds();
+      ctx.record_device_time(false);
+    }
   fs::remove_all(tmp);
-  std::printf("%s on %s, batch %d × %d\n", scene_path.c_str(), ctx.device().describe().c_str(), nr.config().batch,
-              nr.config().samples);
-  std::printf(
-      "NR step %.1f ms, ISNR step %.1f ms: the I-Module's share of a step %.1f %% "
-      "(target ≤ 10 %%; the paper: ≈ 10 %%)\n",
-      1e3 * t_nr, 1e3 * t_isnr, 100 * (t_isnr - t_nr) / t_isnr);
+  const radiosity::Trainer& isnr = *rows[1].trainer;
+  std::printf("%s on %s, batch %d × %d\n", scene_path.c_str(), ctx.device().describe().c_str(), isnr.config().batch,
+              isnr.config().samples);
+  const double t_nr = rows[0].step_s;
+  for (int i = 1; i < 3; ++i)
+    std::printf(
+        "NR step %.1f ms, %s step %.1f ms: the I-Module's share of a step %.1f %% "
+        "(target ≤ 10 %%; the paper: ≈ 10 %%)\n",
+        1e3 * t_nr, rows[i].name, 1e3 * rows[i].step_s, 100 * (rows[i].step_s - t_nr) / rows[i].step_s);
+  const double steps = double(rounds * kBlock);
+  for (const auto& r : rows) bench::print_stages(r.name, r.host, r.device_s, r.step_s * steps);
   print_stages(ctx, nn::network_config_from_json(isnr.config().guide), std::size_t(isnr.config().batch),
                std::size_t(isnr.config().samples));
   return 0;

@@ -1,6 +1,9 @@
 // Network engine benchmark (docs/design.md §6): GEMM GFLOP/s per backend beside the device's measured FMA peak and
 // OpenBLAS SGEMM of the same shape; one N-Module training step beside the same step in PyTorch (bench/torch_anchor.py).
-// Usage: bench_nn [--json] [--device SPEC] [--quick]
+// Usage: bench_nn [--json] [--device SPEC] [--quick | --acceptance]
+// --acceptance: only the GPU-pace figures (bench/gpu_acceptance.sh's summary): the engine's GEMM (the probe's pick) at
+// (4096 and 16384 × 512)·(512 × 512) and the weight gradient (512 × 16384)·(16384 × 512), and N-Module steps at
+// B = 4096 and 16384, each beside its target.
 #include <cblas.h>
 
 #include <algorithm>
@@ -122,16 +125,146 @@ double torch_anchor_ms(std::size_t batch) {
   return -1.0;
 }
 
+// One N-Module training step (docs/design.md §2): forward of B points, inference of N·B incident points, relative L2
+// loss, backward, Adam over the MLP and the touched hash-grid entries; the median of `reps`, each stage timed to
+// completion.
+struct StepTime {
+  double ms = 0, fwd_ms = 0, inf_ms = 0, bwd_ms = 0, adam_ms = 0, peak_mib = 0;
+  int reps = 0;
+  std::size_t levels = 0, features = 0, log2_table = 0, parameters = 0;
+  std::string plan;
+};
+
+StepTime nmodule_step(cl::Context& ctx, std::size_t B, int reps, std::mt19937& rng) {
+  constexpr std::size_t N = 4;
+  auto cfg = nn::n_module_config({0, 0, 0}, {1, 1, 1});
+  cfg.gemm = nn::GemmChoice::Auto;
+  nn::Network net(ctx, cfg);
+  const auto raw = random_raw(B, rng), incident = random_raw(N * B, rng);
+  std::vector<float> target(B * 3);
+  for (auto& t : target) t = std::uniform_real_distribution<float>(0.0f, 1.0f)(rng);
+  cl::Buffer<float> draw(ctx, std::span<const float>(raw)), dinc(ctx, std::span<const float>(incident)),
+      dt(ctx, std::span<const float>(target)), grad(ctx, B * 3), li(ctx, N * B * 3);
+  nn::Loss loss(ctx);
+  nn::NetworkContext c;
+  double t_fwd = 0, t_inf = 0, t_bwd = 0, t_adam = 0;
+  auto step = [&](bool timed) {
+    auto t0 = Clock::now();
+    net.forward_train(draw, B, c);
+    ctx.finish();
+    if (timed) t_fwd += seconds_since(t0);
+    t0 = Clock::now();
+    net.infer(dinc, N * B, li);
+    ctx.finish();
+    if (timed) t_inf += seconds_since(t0);
+    t0 = Clock::now();
+    loss.evaluate(c.output(), dt, B * 3, 1.0f / float(B * 3), 1.0f, grad);
+    net.backward(c, grad);
+    ctx.finish();
+    if (timed) t_bwd += seconds_since(t0);
+    t0 = Clock::now();
+    net.adam_step();
+    ctx.finish();
+    if (timed) t_adam += seconds_since(t0);
+  };
+  step(false);
+  step(false);
+  ctx.reset_peak();
+  std::vector<double> times;
+  for (int i = 0; i < reps; ++i) {
+    const auto t0 = Clock::now();
+    step(true);
+    times.push_back(seconds_since(t0));
+  }
+  std::sort(times.begin(), times.end());
+  StepTime st;
+  st.ms = 1000 * times[times.size() / 2];
+  st.reps = reps;
+  st.fwd_ms = 1000 * t_fwd / reps;
+  st.inf_ms = 1000 * t_inf / reps;
+  st.bwd_ms = 1000 * t_bwd / reps;
+  st.adam_ms = 1000 * t_adam / reps;
+  st.peak_mib = double(ctx.peak_bytes()) / (1024.0 * 1024.0);
+  st.parameters = net.parameter_count();
+  st.levels = cfg.encoder.grid->levels;
+  st.features = cfg.encoder.grid->features;
+  st.log2_table = cfg.encoder.grid->log2_table;
+  st.plan = nn::to_string(net.gemm().plan());
+  return st;
+}
+
+// The figures of the GPU-pace targets (docs/nvidia.md), each beside its target: the engine's GEMM plan (the one
+// training uses) at the N-Module's forward products and its weight gradient, and whole N-Module steps.
+int run_acceptance(cl::Context& ctx, double peak_gflops, bool json) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  nn::Gemm engine(ctx, nn::GemmChoice::Auto);
+  const auto random = [&](std::size_t count) {
+    std::vector<float> v(count);
+    for (auto& x : v) x = u(rng);
+    return cl::Buffer<float>(ctx, std::span<const float>(v));
+  };
+  constexpr std::size_t W = 512;
+  const auto tflops = [&](nn::Op op_a, std::size_t m, std::size_t n, std::size_t k, const cl::Buffer<float>& a,
+                          std::size_t lda, const cl::Buffer<float>& b, cl::Buffer<float>& c) {
+    const auto run = [&] {
+      engine.run(op_a, nn::Op::N, m, n, k, 1.0f, nn::mat(a, lda), nn::mat(b, n), 0.0f, nn::mat(c, n));
+      ctx.finish();
+    };
+    run();
+    return 2.0 * double(m) * double(n) * double(k) / best_of(5, run) * 1e-12;
+  };
+  nlohmann::json figures = {{"device", ctx.device().describe()},
+                            {"driver", ctx.device().driver_version},
+                            {"gemm_plan", nn::to_string(engine.plan())},
+                            {"fma_peak_tflops", peak_gflops * 1e-3}};
+  const double peak_t = peak_gflops * 1e-3;
+  for (const std::size_t rows : {std::size_t(4096), std::size_t(16384)}) {
+    const auto a = random(rows * W), w = random(W * W);
+    cl::Buffer<float> c(ctx, rows * W);
+    const double t = tflops(nn::Op::N, rows, W, W, a, W, w, c);
+    figures["gemm_tflops_" + std::to_string(rows)] = t;
+    if (!json)
+      std::printf(
+          "engine GEMM %s (%zux512)·(512x512): %.2f TFLOP/s, %.0f %% of the FMA peak (target on an H100/H200: >= %s)\n",
+          nn::to_string(engine.plan()).c_str(), rows, t, 100 * t / peak_t, rows == 4096 ? "30" : "40");
+  }
+  {
+    constexpr std::size_t K = 16384;  // the weight gradient of a 512-wide layer over the GPU's batch
+    const auto x = random(K * W), dy = random(K * W);
+    cl::Buffer<float> dw(ctx, W * W);
+    const double t = tflops(nn::Op::T, W, W, K, x, W, dy, dw);
+    figures["gemm_tflops_dw"] = t;
+    if (!json)
+      std::printf(
+          "engine GEMM %s dW (512x16384)·(16384x512): %.2f TFLOP/s, %.0f %% of the FMA peak (target on an H100/H200: "
+          ">= 30)\n",
+          nn::to_string(engine.plan()).c_str(), t, 100 * t / peak_t);
+  }
+  for (const std::size_t B : {std::size_t(4096), std::size_t(16384)}) {
+    const StepTime st = nmodule_step(ctx, B, 5, rng);
+    figures["nmodule_step_ms_" + std::to_string(B)] = st.ms;
+    if (!json)
+      std::printf(
+          "N-Module step B=%zu x 4, width 512: %.2f ms (forward %.2f, inference %.2f, loss+backward %.2f, adam %.2f; "
+          "target on an H100/H200: <= %s ms)\n",
+          B, st.ms, st.fwd_ms, st.inf_ms, st.bwd_ms, st.adam_ms, B == 4096 ? "1.5" : "4.5");
+  }
+  if (json) std::cout << figures.dump() << "\n";
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool json = false, quick = false;
+  bool json = false, quick = false, acceptance = false;
   std::string spec;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--json"))
       json = true;
     else if (!std::strcmp(argv[i], "--quick"))
       quick = true;
+    else if (!std::strcmp(argv[i], "--acceptance"))
+      acceptance = true;
     else if (!std::strcmp(argv[i], "--device") && i + 1 < argc)
       spec = argv[++i];
   }
@@ -148,6 +281,8 @@ int main(int argc, char** argv) {
     // The anchor's own kernel: OPENBLAS_CORETYPE can pin an older one (an AVX2 kernel on an AVX-512 machine).
     std::printf("OpenBLAS anchor: %s kernel, %d threads\n", openblas_get_corename(), openblas_get_num_threads());
   }
+
+  if (acceptance) return run_acceptance(ctx, peak, json);
 
   nlohmann::json gemm_rows = nlohmann::json::array();
   const std::size_t n = 512, k = 512;
@@ -248,61 +383,19 @@ int main(int argc, char** argv) {
       std::printf("I-Module MLP inference, %zu rows: fused %.2f ms, per-layer GEMMs %.2f ms\n", rows, ms[1], ms[0]);
   }
 
-  // One N-Module training step (docs/design.md §2): forward of B points, inference of N·B incident points, relative L2
-  // loss, backward, Adam over the MLP and the touched hash-grid entries.
+  // One N-Module training step (docs/design.md §2) at the batch the device trains with.
   const std::size_t B = quick ? 4096 : 16384, N = 4;
-  auto cfg = nn::n_module_config({0, 0, 0}, {1, 1, 1});
-  cfg.gemm = nn::GemmChoice::Auto;
-  nn::Network net(ctx, cfg);
-  const auto raw = random_raw(B, rng), incident = random_raw(N * B, rng);
-  std::vector<float> target(B * 3);
-  for (auto& t : target) t = std::uniform_real_distribution<float>(0.0f, 1.0f)(rng);
-  cl::Buffer<float> draw(ctx, std::span<const float>(raw)), dinc(ctx, std::span<const float>(incident)),
-      dt(ctx, std::span<const float>(target)), grad(ctx, B * 3), li(ctx, N * B * 3);
-  nn::Loss loss(ctx);
-  nn::NetworkContext c;
-  double t_fwd = 0, t_inf = 0, t_bwd = 0, t_adam = 0;
-  auto step = [&](bool timed) {
-    auto t0 = Clock::now();
-    net.forward_train(draw, B, c);
-    ctx.finish();
-    if (timed) t_fwd += seconds_since(t0);
-    t0 = Clock::now();
-    net.infer(dinc, N * B, li);
-    ctx.finish();
-    if (timed) t_inf += seconds_since(t0);
-    t0 = Clock::now();
-    loss.evaluate(c.output(), dt, B * 3, 1.0f / float(B * 3), 1.0f, grad);
-    net.backward(c, grad);
-    ctx.finish();
-    if (timed) t_bwd += seconds_since(t0);
-    t0 = Clock::now();
-    net.adam_step();
-    ctx.finish();
-    if (timed) t_adam += seconds_since(t0);
-  };
-  step(false);
-  step(false);
-  ctx.reset_peak();
-  const int reps = quick ? 2 : 5;
-  std::vector<double> times;
-  for (int i = 0; i < reps; ++i) {
-    const auto t0 = Clock::now();
-    step(true);
-    times.push_back(seconds_since(t0));
-  }
-  std::sort(times.begin(), times.end());
-  const double ours_ms = 1000 * times[times.size() / 2];
+  const StepTime st = nmodule_step(ctx, B, quick ? 2 : 5, rng);
+  const double ours_ms = st.ms;
+  const int reps = st.reps;
   const double torch_ms = torch_anchor_ms(B);
   if (!json) {
-    std::printf("N-Module step (hash grid %zux%zu T=2^%zu + 4x512 MLP, B=%zu, +%zu·B inference), GEMM %s:\n",
-                cfg.encoder.grid->levels, cfg.encoder.grid->features, cfg.encoder.grid->log2_table, B, N,
-                nn::to_string(net.gemm().plan()).c_str());
+    std::printf("N-Module step (hash grid %zux%zu T=2^%zu + 4x512 MLP, B=%zu, +%zu·B inference), GEMM %s:\n", st.levels,
+                st.features, st.log2_table, B, N, st.plan.c_str());
     std::printf(
         "  ours    %8.1f ms (median of %d; forward %.0f, inference %.0f, loss+backward %.0f, adam %.0f ms avg)\n",
-        ours_ms, reps, 1000 * t_fwd / reps, 1000 * t_inf / reps, 1000 * t_bwd / reps, 1000 * t_adam / reps);
-    std::printf("  peak device memory of a step: %.1f MiB (%zu parameters)\n",
-                double(ctx.peak_bytes()) / (1024.0 * 1024.0), net.parameter_count());
+        ours_ms, reps, st.fwd_ms, st.inf_ms, st.bwd_ms, st.adam_ms);
+    std::printf("  peak device memory of a step: %.1f MiB (%zu parameters)\n", st.peak_mib, st.parameters);
     if (torch_ms > 0)
       std::printf("  PyTorch %8.1f ms (bench/torch_anchor.py, CPU)  ->  ours is %.2fx faster\n", torch_ms,
                   torch_ms / ours_ms);

@@ -13,12 +13,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "cl/context.hpp"
 #include "geometry/geometry.hpp"
 #include "radiosity/trainer.hpp"
 #include "scene/scene.hpp"
+#include "stage_report.hpp"
 
 namespace {
 
@@ -50,6 +52,8 @@ int main(int argc, char** argv) {
     radiosity::StepSchedule schedule;
     std::unique_ptr<radiosity::Trainer> trainer;
     std::vector<double> ms;
+    radiosity::HostStageTimes host;
+    double device_s = 0, wall_s = 0;
   };
   std::vector<Row> rows;
   radiosity::TrainConfig config;
@@ -64,17 +68,23 @@ int main(int argc, char** argv) {
       auto t = std::make_unique<radiosity::Trainer>(ctx, geometry, config,
                                                     tmp / (std::string(name) + std::to_string(int(schedule))), false);
       t->set_schedule(schedule);
-      rows.push_back({name, schedule, std::move(t), {}});
+      rows.push_back({name, schedule, std::move(t), {}, {}, 0, 0});
     }
   for (auto& r : rows)  // warm-up: program builds, buffer growth, the GEMM probe
     for (int i = 0; i < 3; ++i) r.trainer->step();
   ctx.finish();
+  for (auto& r : rows) r.trainer->time_host_stages(&r.host);
   for (int round = 0; round < rounds; ++round)
     for (auto& r : rows) {
+      ctx.record_device_time(true);
       const auto start = std::chrono::steady_clock::now();
       for (int i = 0; i < block; ++i) r.trainer->step();
       ctx.finish();
-      r.ms.push_back(1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / block);
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      r.ms.push_back(1e3 * wall / block);
+      r.wall_s += wall;
+      r.device_s += ctx.take_device_seconds();
+      ctx.record_device_time(false);
     }
   fs::remove_all(tmp);
 
@@ -95,6 +105,9 @@ int main(int argc, char** argv) {
       for (const double ms : rows[j].ms) std::printf(" %.1f", ms);
       std::printf("\n");
     }
+    for (std::size_t j = i; j < i + 2; ++j)
+      bench::print_stages((std::string(rows[j].method) + (j == i ? " serial" : " pipelined")).c_str(), rows[j].host,
+                          rows[j].device_s, rows[j].wall_s);
   }
   return 0;
 }

@@ -11,6 +11,8 @@ find_package(tinyobjloader REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(Threads REQUIRED)
+# oneTBB: the host's persistent worker pool (common/parallel.*); Embree already runs its BVH builds on it.
+find_package(TBB REQUIRED)
 find_package(ZLIB REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
@@ -18,7 +20,7 @@ pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
 add_library(clr_deps INTERFACE)
 target_link_libraries(clr_deps INTERFACE OpenCL::OpenCL embree OpenEXR::OpenEXR glm::glm clblast pugixml::pugixml
                                          tinyobjloader::tinyobjloader CLI11::CLI11 nlohmann_json::nlohmann_json
-                                         PkgConfig::STB Threads::Threads ZLIB::ZLIB)
+                                         PkgConfig::STB Threads::Threads TBB::tbb ZLIB::ZLIB)
 # GLM: radians everywhere, explicit constructors keep float/double mixing visible.
 target_compile_definitions(clr_deps INTERFACE GLM_FORCE_RADIANS GLM_FORCE_XYZW_ONLY)
 

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <span>
 #include <vector>
 
 #include "cl/buffer.hpp"
@@ -27,28 +28,17 @@ namespace clr::cl {
 
 inline void flush(const Context& ctx) { CLR_CL_CHECK(clFlush(ctx.queue())); }
 
+// Pinned host memory (CL_MEM_ALLOC_HOST_PTR, mapped once for its life) that one stream of transfers goes through;
+// the event of the last transfer guards it.
 template <typename T>
-class PinnedUpload {
+class PinnedMemory {
  public:
-  PinnedUpload() = default;
-  PinnedUpload(const PinnedUpload&) = delete;
-  PinnedUpload& operator=(const PinnedUpload&) = delete;
-  ~PinnedUpload() { release(); }
+  PinnedMemory() = default;
+  PinnedMemory(const PinnedMemory&) = delete;
+  PinnedMemory& operator=(const PinnedMemory&) = delete;
+  ~PinnedMemory() { release(); }
 
-  // dst (grown to fit, at least one element) receives `host`; returns before the transfer ends.
-  void send(Context& ctx, Buffer<T>& dst, const std::vector<T>& host) {
-    reserve(ctx, dst, host.size());
-    if (host.empty()) return;
-    wait();
-    if (host.size() > capacity_) grow(ctx, host.size());
-    std::memcpy(mapped_, host.data(), host.size() * sizeof(T));
-    cl_event done = nullptr;
-    CLR_CL_CHECK(
-        clEnqueueWriteBuffer(ctx.queue(), dst.get(), CL_FALSE, 0, host.size() * sizeof(T), mapped_, 0, nullptr, &done));
-    last_ = EventHandle(done);
-  }
-
- private:
+ protected:
   void wait() {
     if (last_) {
       const cl_event e = last_.get();
@@ -58,22 +48,23 @@ class PinnedUpload {
   }
   // Capacity grows by half again over the request, so a batch whose size varies a little (the compacted lookup
   // rows) does not re-pin every step.
-  void grow(Context& ctx, std::size_t count) {
+  void reserve_host(Context& ctx, std::size_t count, cl_mem_flags access, cl_map_flags map) {
+    if (count <= capacity_) return;
     release();
     capacity_ = count + count / 2;
     cl_int status = CL_SUCCESS;
-    pinned_ = MemHandle(
-        clCreateBuffer(ctx.get(), CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR, capacity_ * sizeof(T), nullptr, &status));
+    pinned_ =
+        MemHandle(clCreateBuffer(ctx.get(), access | CL_MEM_ALLOC_HOST_PTR, capacity_ * sizeof(T), nullptr, &status));
     CLR_CL_CHECK(status);
     queue_ = ctx.queue();
-    void* p = clEnqueueMapBuffer(queue_, pinned_.get(), CL_TRUE, CL_MAP_WRITE, 0, capacity_ * sizeof(T), 0, nullptr,
-                                 nullptr, &status);
+    void* p =
+        clEnqueueMapBuffer(queue_, pinned_.get(), CL_TRUE, map, 0, capacity_ * sizeof(T), 0, nullptr, nullptr, &status);
     CLR_CL_CHECK(status);
     mapped_ = static_cast<T*>(p);
   }
-  // Unmapping is enqueued behind the last write from the mapping (in-order queue), and the runtime keeps the buffer
-  // until the commands using it are done, so nothing waits here. A destructor does not throw: a failure (only at
-  // teardown of a broken context) is ignored.
+  // Unmapping is enqueued behind the last transfer through the mapping (in-order queue), and the runtime keeps the
+  // buffer until the commands using it are done, so nothing waits here. A destructor does not throw: a failure (only
+  // at teardown of a broken context) is ignored.
   void release() noexcept {
     if (!pinned_) return;
     if (mapped_) clEnqueueUnmapMemObject(queue_, pinned_.get(), mapped_, 0, nullptr, nullptr);
@@ -88,6 +79,51 @@ class PinnedUpload {
   T* mapped_ = nullptr;
   std::size_t capacity_ = 0;
   EventHandle last_;
+};
+
+template <typename T>
+class PinnedUpload : public PinnedMemory<T> {
+ public:
+  // dst (grown to fit, at least one element) receives `host`; returns before the transfer ends.
+  void send(Context& ctx, Buffer<T>& dst, const std::vector<T>& host) {
+    reserve(ctx, dst, host.size());
+    if (host.empty()) return;
+    this->wait();
+    this->reserve_host(ctx, host.size(), CL_MEM_READ_ONLY, CL_MAP_WRITE);
+    std::memcpy(this->mapped_, host.data(), host.size() * sizeof(T));
+    cl_event done = nullptr;
+    CLR_CL_CHECK(clEnqueueWriteBuffer(ctx.queue(), dst.get(), CL_FALSE, 0, host.size() * sizeof(T), this->mapped_, 0,
+                                      nullptr, &done));
+    this->last_ = EventHandle(done);
+    ctx.record(done);
+  }
+};
+
+// The reverse stream: a read the host starts, does other work, and collects later (the pipelined step's guided
+// directions, drawn on the device ahead of the step that traces them).
+template <typename T>
+class PinnedDownload : public PinnedMemory<T> {
+ public:
+  // Starts reading the first `count` values of `src` (after everything enqueued before); returns at once.
+  void start(Context& ctx, const Buffer<T>& src, std::size_t count) {
+    this->wait();
+    this->reserve_host(ctx, std::max<std::size_t>(count, 1), CL_MEM_WRITE_ONLY, CL_MAP_READ);
+    count_ = count;
+    if (count == 0) return;
+    cl_event done = nullptr;
+    CLR_CL_CHECK(
+        clEnqueueReadBuffer(ctx.queue(), src.get(), CL_FALSE, 0, count * sizeof(T), this->mapped_, 0, nullptr, &done));
+    this->last_ = EventHandle(done);
+    ctx.record(done);
+  }
+  // Waits for the read started last; its values stay valid until the next start.
+  std::span<const T> result() {
+    this->wait();
+    return {this->mapped_, count_};
+  }
+
+ private:
+  std::size_t count_ = 0;
 };
 
 }  // namespace clr::cl

@@ -49,18 +49,25 @@ class Buffer {
     check_range(offset, data.size());
     if (data.empty()) return;
     CLR_CL_CHECK(clEnqueueWriteBuffer(ctx_->queue(), mem_.get(), CL_TRUE, offset * sizeof(T), data.size_bytes(),
-                                      data.data(), 0, nullptr, nullptr));
+                                      data.data(), 0, nullptr, ctx_->event_slot()));
   }
   void read(std::span<T> out, std::size_t offset = 0) const {
     check_range(offset, out.size());
     if (out.empty()) return;
     CLR_CL_CHECK(clEnqueueReadBuffer(ctx_->queue(), mem_.get(), CL_TRUE, offset * sizeof(T), out.size_bytes(),
-                                     out.data(), 0, nullptr, nullptr));
+                                     out.data(), 0, nullptr, ctx_->event_slot()));
   }
   std::vector<T> read() const {
     std::vector<T> out(count_);
     read(out);
     return out;
+  }
+  // The first src.size() values become src's, on the device (after everything enqueued before).
+  void copy_from(const Buffer& src) {
+    check_range(0, src.size());
+    if (src.count_ == 0) return;
+    CLR_CL_CHECK(
+        clEnqueueCopyBuffer(ctx_->queue(), src.get(), mem_.get(), 0, 0, src.bytes(), 0, nullptr, ctx_->event_slot()));
   }
   void fill(const T& value) {
     if (count_ == 0) return;
@@ -71,7 +78,8 @@ class Buffer {
       write(std::vector<T>(count_, value));
       return;
     }
-    CLR_CL_CHECK(clEnqueueFillBuffer(ctx_->queue(), mem_.get(), &value, sizeof(T), 0, bytes(), 0, nullptr, nullptr));
+    CLR_CL_CHECK(
+        clEnqueueFillBuffer(ctx_->queue(), mem_.get(), &value, sizeof(T), 0, bytes(), 0, nullptr, ctx_->event_slot()));
   }
 
  private:

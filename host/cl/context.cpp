@@ -22,6 +22,13 @@ Context::Context(DeviceInfo device) : device_(std::move(device)) {
   CLR_CL_CHECK(status);
 }
 
+Context::~Context() {
+  for (const Timed& t : timed_) {
+    if (t.opened) clReleaseEvent(t.opened);
+    if (t.command) clReleaseEvent(t.command);
+  }
+}
+
 void Context::finish() const { CLR_CL_CHECK(clFinish(queue_.get())); }
 
 const Program& Context::program(const std::vector<std::string>& files, const std::string& options) {
@@ -38,6 +45,53 @@ const Program& Context::program(const std::vector<std::string>& files, const std
     ++programs_built_;
   }
   return *slot;
+}
+
+cl_event* Context::event_slot() const {
+  if (!recording_) return nullptr;
+  return &timed_.emplace_back().command;
+}
+
+cl_event* Context::span_slot() const {
+  if (!recording_) return nullptr;
+  Timed& t = timed_.emplace_back();
+  CLR_CL_CHECK(clEnqueueMarkerWithWaitList(queue_.get(), 0, nullptr, &t.opened));
+  return &t.command;
+}
+
+void Context::record(cl_event event) const {
+  if (!recording_ || !event) return;
+  CLR_CL_CHECK(clRetainEvent(event));
+  timed_.emplace_back().command = event;
+}
+
+double Context::take_device_seconds() {
+  finish();
+  const auto at = [](cl_event e, cl_profiling_info what) {
+    cl_ulong ns = 0;
+    CLR_CL_CHECK(clGetEventProfilingInfo(e, what, sizeof ns, &ns, nullptr));
+    return ns;
+  };
+  cl_ulong busy_ns = 0;
+  std::deque<Timed> timed;
+  timed.swap(timed_);
+  try {
+    for (const Timed& t : timed) {
+      if (!t.command) continue;  // an enqueue that failed
+      const cl_ulong start =
+          t.opened ? at(t.opened, CL_PROFILING_COMMAND_END) : at(t.command, CL_PROFILING_COMMAND_START);
+      const cl_ulong end = at(t.command, CL_PROFILING_COMMAND_END);
+      busy_ns += end > start ? end - start : 0;
+    }
+  } catch (...) {
+    timed.swap(timed_);  // the destructor releases them
+    throw;
+  }
+  for (const Timed& t : timed) {
+    if (t.opened) clReleaseEvent(t.opened);
+    if (t.command) clReleaseEvent(t.command);
+  }
+  return 1e-9 * double(busy_ns);
 }
 
 void Context::on_alloc(std::uint64_t bytes) {

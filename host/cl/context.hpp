@@ -4,6 +4,7 @@
 #include <CL/cl.h>
 
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <memory>
 #include <string>
@@ -20,6 +21,7 @@ class Context {
   explicit Context(DeviceInfo device);
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
+  ~Context();
 
   const DeviceInfo& device() const { return device_; }
   cl_context get() const { return context_.get(); }
@@ -38,6 +40,20 @@ class Context {
   std::uint64_t peak_bytes() const { return peak_bytes_; }
   void reset_peak() { peak_bytes_ = bytes_in_use_; }
 
+  // The device's busy time (benchmarks: a step's device share beside its host stages). While recording, every
+  // command this layer enqueues keeps its event, and take_device_seconds() waits for the queue and sums their
+  // profiled durations: the in-order queue runs one command at a time, so the sum is the time the device worked,
+  // its idle gaps (a host that cannot keep up) left out. Off by default: training keeps no events.
+  void record_device_time(bool on) { recording_ = on; }
+  // Where an enqueue puts its event: null when not recording.
+  cl_event* event_slot() const;
+  // The same for a call that enqueues several commands but returns one event (CLBlast: its last): a marker before
+  // it opens the span, which that event closes.
+  cl_event* span_slot() const;
+  // Keeps an event the caller owns (retained here).
+  void record(cl_event event) const;
+  double take_device_seconds();
+
  private:
   DeviceInfo device_;
   ContextHandle context_;
@@ -46,6 +62,12 @@ class Context {
   std::size_t programs_built_ = 0;
   std::uint64_t bytes_in_use_ = 0;
   std::uint64_t peak_bytes_ = 0;
+  struct Timed {
+    cl_event opened = nullptr;  // a marker whose end opens the span; null: the command's own start does
+    cl_event command = nullptr;
+  };
+  bool recording_ = false;
+  mutable std::deque<Timed> timed_;  // a deque: a slot's address stays valid while later ones are added
 };
 
 }  // namespace clr::cl

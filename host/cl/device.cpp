@@ -134,6 +134,7 @@ std::vector<DeviceInfo> list_devices() {
       info.max_work_group_size = device_value<std::size_t>(d, CL_DEVICE_MAX_WORK_GROUP_SIZE);
       info.local_mem_bytes = device_value<cl_ulong>(d, CL_DEVICE_LOCAL_MEM_SIZE);
       info.opencl_c_version = device_string(d, CL_DEVICE_OPENCL_C_VERSION);
+      info.driver_version = device_string(d, CL_DRIVER_VERSION);
       const std::string ext = device_string(d, CL_DEVICE_EXTENSIONS);
       info.float_atomics = has_extension(ext, "cl_ext_float_atomics");
       info.fp16 = has_extension(ext, "cl_khr_fp16");

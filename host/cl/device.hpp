@@ -37,6 +37,7 @@ struct DeviceInfo {
   std::size_t max_work_group_size = 0;
   std::uint64_t local_mem_bytes = 0;
   std::string opencl_c_version;
+  std::string driver_version;  // CL_DRIVER_VERSION (NVIDIA: the driver's release, e.g. 580.159.04)
   bool float_atomics = false;  // cl_ext_float_atomics; otherwise kernels use CAS loops (docs/design.md §5)
   bool fp16 = false;           // cl_khr_fp16
   bool int64_atomics = false;  // cl_khr_int64_base_atomics: hash-grid gradients in fixed point (docs/design.md §5)

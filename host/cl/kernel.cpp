@@ -78,8 +78,8 @@ void Kernel::enqueue(cl_uint dims, const std::size_t* global, const std::size_t*
                                                 " exceeds its limit of " + std::to_string(work_group_size_) + " on " +
                                                 ctx_->device().name);
   check_local_memory();
-  const cl_int status =
-      clEnqueueNDRangeKernel(ctx_->queue(), kernel_.get(), dims, nullptr, global, local, 0, nullptr, nullptr);
+  const cl_int status = clEnqueueNDRangeKernel(ctx_->queue(), kernel_.get(), dims, nullptr, global, local, 0, nullptr,
+                                               ctx_->event_slot());
   if (status != CL_SUCCESS)
     throw Error(status, "clEnqueueNDRangeKernel(" + name_ + ") failed with " + status_name(status));
 }

@@ -12,8 +12,12 @@ struct Command {
   std::function<int()> run;
 };
 
-// Adds --device SPEC (docs/design.md §4) to a computing command; CLRADIOSITY_DEVICE is its default.
+// Adds --device SPEC (docs/design.md §4) to a computing command; CLRADIOSITY_DEVICE is its default. And --threads.
 void add_device_option(CLI::App& cmd, std::string& spec);
+// Adds --threads N (CLRADIOSITY_THREADS): caps the host's worker pool and a PoCL device's threads.
+void add_threads_option(CLI::App& cmd);
+// Applies --threads or CLRADIOSITY_THREADS (InputError naming a malformed value), before any OpenCL call.
+void apply_thread_count();
 
 Command add_devices_command(CLI::App& app);
 Command add_reference_command(CLI::App& app);

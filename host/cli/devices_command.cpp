@@ -18,6 +18,7 @@ nlohmann::json to_json(const cl::DeviceInfo& d, bool is_default) {
           {"global_mem_bytes", d.global_mem_bytes},
           {"max_alloc_bytes", d.max_alloc_bytes},
           {"opencl_c_version", d.opencl_c_version},
+          {"driver", d.driver_version},
           {"float_atomics", d.float_atomics},
           {"fp16", d.fp16},
           {"default", is_default}};

@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <iostream>
@@ -13,6 +14,7 @@
 #include "cli/failure_message.hpp"
 #include "common/digest.hpp"
 #include "common/error.hpp"
+#include "common/parallel.hpp"
 #include "common/progress.hpp"
 #include "common/stop_signal.hpp"
 #include "distributed/communicator.hpp"
@@ -24,6 +26,36 @@ void add_device_option(CLI::App& cmd, std::string& spec) {
   cmd.add_option("--device", spec,
                  "OpenCL device: P:D indices or a case-insensitive substring of platform/device name or type "
                  "(pocl, nvidia, cpu, gpu); default $CLRADIOSITY_DEVICE, else the first GPU, else the first CPU");
+  add_threads_option(cmd);
+}
+
+namespace {
+// Every command's --threads writes here; applied once the command line is parsed (apply_thread_count).
+int& threads_flag() {
+  static int threads = 0;
+  return threads;
+}
+}  // namespace
+
+void add_threads_option(CLI::App& cmd) {
+  cmd.add_option("--threads", threads_flag(),
+                 "Threads for the host's stages (sampling, tracing, the path tracer) and a PoCL CPU device; default "
+                 "$CLRADIOSITY_THREADS, else every hardware thread")
+      ->check(CLI::Range(1, 4096));
+}
+
+// --threads, else CLRADIOSITY_THREADS, before anything starts the OpenCL platform (PoCL reads its thread count then).
+void apply_thread_count() {
+  int threads = threads_flag();
+  if (threads == 0)
+    if (const char* env = std::getenv("CLRADIOSITY_THREADS"); env && *env) {
+      char* end = nullptr;
+      const long n = std::strtol(env, &end, 10);
+      if (*end != '\0' || n < 1 || n > 4096)
+        throw InputError("CLRADIOSITY_THREADS='" + std::string(env) + "' is not a thread count in [1, 4096]");
+      threads = int(n);
+    }
+  if (threads > 0) set_thread_count(std::size_t(threads));
 }
 
 }  // namespace clr::cli
@@ -66,7 +98,8 @@ int run(int argc, char** argv) {
   app.require_subcommand(0, 1);
   std::string preset;
   app.add_option("--preset", preset, "The main job (no subcommand) with a budget preset: preview, balanced, quality")
-      ->check(CLI::IsMember(clr::radiosity::preset_names()));
+      ->check(CLI::IsMember(clr::radiosity::budget_preset_names()));
+  clr::cli::add_threads_option(app);
 
   const std::vector<clr::cli::Command> commands = {
       clr::cli::add_devices_command(app), clr::cli::add_compare_command(app), clr::cli::add_reference_command(app),
@@ -77,6 +110,7 @@ int run(int argc, char** argv) {
   std::string command;  // names the options to lower when memory runs out
   try {
     app.parse(argc, argv);
+    clr::cli::apply_thread_count();
     const auto& ranks = clr::distributed::Communicator::world();
     if (ranks.distributed()) {
       const CLI::App* parsed = nullptr;

@@ -31,6 +31,7 @@ Command add_reference_command(CLI::App& app) {
          "Longest path in segments; -1: unbounded (default: the scene integrator's max_depth, else -1)")
       ->check(CLI::Range(-1, 1 << 20));
   cmd->add_option("--seed", opt->render.seed, "Random seed")->check(integer_at_least(0));
+  add_threads_option(*cmd);
   cmd->add_option("-o,--output", opt->output, "Output EXR")->required();
 
   return {
@@ -57,7 +58,7 @@ Command add_reference_command(CLI::App& app) {
         if (ranks.rank() != 0) return 0;
         image::write_exr(opt->output, img);
         std::printf(
-            "%s: %dx%d, %d spp, %.1f s, %.2f Msamples/s, %.2f Mrays/s%s\n", opt->output.c_str(), img.width, img.height,
+            "%s: %dx%d, %d spp, %.3f s, %.2f Msamples/s, %.2f Mrays/s%s\n", opt->output.c_str(), img.width, img.height,
             opt->render.spp, stats.seconds, double(stats.paths) / stats.seconds * 1e-6,
             double(stats.rays) / stats.seconds * 1e-6,
             stats.non_finite ? (", " + std::to_string(stats.non_finite) + " non-finite samples dropped").c_str() : "");

@@ -1,5 +1,6 @@
 // clradiosity train SCENE.xml [--method isnr|nr] [--is-loss ikl|kl] [--bsdf-fraction C] [--samples N] [--batch M]
-//                  [--steps S | --minutes T] [--preset preview|balanced|quality] [--seed K] [--config FILE.json]
+//                  [--steps S | --minutes T] [--preset preview|balanced|quality|paper] [--seed K] [--config FILE.json]
+//                  [--reference REF.exr [--eval-every S] [--eval-spp K]] [--preview FILE.png [--preview-every S]]
 //                  [--resume] -o RUN_DIR
 #include <cmath>
 #include <cstdio>
@@ -11,13 +12,19 @@
 #include "cl/context.hpp"
 #include "cli/command.hpp"
 #include "cli/number_checks.hpp"
+#include "common/atomic_file.hpp"
 #include "common/digest.hpp"
 #include "common/error.hpp"
+#include "common/folder_record.hpp"
 #include "common/input_file.hpp"
+#include "common/stop_signal.hpp"
 #include "distributed/communicator.hpp"
 #include "geometry/geometry.hpp"
+#include "image/image.hpp"
+#include "radiosity/convergence.hpp"
 #include "radiosity/preset.hpp"
 #include "radiosity/run_directory.hpp"
+#include "radiosity/trained_model.hpp"
 #include "radiosity/trainer.hpp"
 #include "scene/fingerprint.hpp"
 
@@ -68,9 +75,10 @@ void require_same_settings(const radiosity::TrainConfig& given, const radiosity:
 
 Command add_train_command(CLI::App& app) {
   struct Options {
-    std::string scene, run_dir, config_file, device, method, is_loss, residual, gemm, preset;
+    std::string scene, run_dir, config_file, device, method, is_loss, residual, gemm, preset, preview;
     int samples = 0, batch = 0;
-    long steps = 0;
+    long steps = 0, preview_every = 0;
+    radiosity::EvaluationSettings evaluation;
     double minutes = 0, learning_rate = 0, bsdf_fraction = 0, guide_learning_rate = 0;
     std::uint64_t seed = 0;
     bool resume = false, other_scene = false;
@@ -115,9 +123,32 @@ Command add_train_command(CLI::App& app) {
   auto* resume = cmd->add_flag("--resume", opt->resume, "Continue the run in RUN_DIR from its checkpoint");
   cmd->add_option("--preset", opt->preset,
                   "preview, balanced or quality: batch, N, width and hash-table size picked for that budget, this "
-                  "scene and device (printed, stored in config.json); flags override it")
+                  "scene and device; paper: the ISNR paper's settings (docs/presets.md). Printed, stored in "
+                  "config.json; flags override it")
       ->check(CLI::IsMember(radiosity::preset_names()))
       ->excludes(resume);
+  auto* reference_option =
+      cmd->add_option("--reference", opt->evaluation.reference,
+                      "Log the model's MAPE, MSE and relMSE against this EXR in log.csv every --eval-every steps "
+                      "(rendered with the scene's camera at its size, outside the training time) and draw "
+                      "RUN_DIR/convergence.svg at the end");
+  cmd->add_option("--eval-every", opt->evaluation.every,
+                  "Steps between evaluations against --reference (default: the checkpoint interval; the last "
+                  "step is evaluated too)")
+      ->check(integer_at_least(1))
+      ->needs(reference_option);
+  cmd->add_option("--eval-spp", opt->evaluation.spp,
+                  "Camera rays per pixel of an evaluation (default 4, as `render`; a resumed run keeps its own)")
+      ->check(CLI::Range(1, 1 << 16))
+      ->needs(reference_option);
+  auto* preview_option = cmd->add_option("--preview", opt->preview,
+                                         "Keep a small render of the model (PNG, the longer side at most " +
+                                             std::to_string(radiosity::kPreviewSide) +
+                                             " pixels) up to date, every --preview-every steps and at the end");
+  cmd->add_option("--preview-every", opt->preview_every,
+                  "Steps between previews (default: --eval-every's, else the checkpoint interval)")
+      ->check(integer_at_least(1))
+      ->needs(preview_option);
   add_device_option(*cmd, opt->device);
 
   return {
@@ -158,6 +189,29 @@ Command add_train_command(CLI::App& app) {
                            Digest().add(scene::fingerprint(scene).digest).value());
         ranks.require_same("the settings (--config and flags)", Digest().add(nlohmann::json(config).dump()).value());
         scene::require_emitter(scene, opt->scene);
+        // What watches the run (--reference, --preview) is checked with the scene, before any training.
+        const bool evaluate = !opt->evaluation.reference.empty(), preview = !opt->preview.empty();
+        std::optional<image::Image> reference;
+        if (evaluate || preview) {
+          const char* option = evaluate ? "--reference" : "--preview";
+          if (ranks.distributed())
+            throw InputError(std::string(option) +
+                             " under mpirun: rank 0 alone would render while the other ranks wait (train without it, "
+                             "then `render` the checkpoints)");
+          scene::require_sensor(scene, opt->scene);
+          if (scene.camera.aperture_radius > 0)
+            throw InputError(std::string(option) + ": " + opt->scene +
+                             " has a thinlens sensor, which only `reference` renders");
+          std::vector<std::filesystem::path> inputs = scene.files;
+          inputs.push_back(opt->evaluation.reference);
+          using RunFiles = radiosity::RunDirectory;
+          for (const auto& f : {RunFiles::config_path(opt->run_dir), RunFiles::log_path(opt->run_dir),
+                                RunFiles::model_path(opt->run_dir), RunFiles::scene_path(opt->run_dir),
+                                RunFiles::evaluation_path(opt->run_dir), RunFiles::convergence_path(opt->run_dir)})
+            inputs.push_back(f);
+          require_outputs({{opt->preview, "--preview"}}, inputs);
+          if (evaluate) reference = radiosity::read_evaluation_reference(opt->evaluation.reference, scene.camera);
+        }
         // A run's config.json holds the networks of its scene (bounding box, inputs): reusing it for another
         // scene is a deliberate act.
         const std::filesystem::path config_run = std::filesystem::path(opt->config_file).parent_path();
@@ -183,6 +237,40 @@ Command add_train_command(CLI::App& app) {
           trainer.run();
           return 0;
         }
+        radiosity::Trainer::RunOptions watch;
+        const auto field = radiosity::radiance_query(ctx, trainer.network());
+        auto& evaluation = opt->evaluation;
+        if (evaluate) {
+          // A resumed run's columns keep measuring what they measured: its spp unless given, and the same reference.
+          const auto record_file = radiosity::RunDirectory::evaluation_path(opt->run_dir);
+          if (opt->resume && !given("--eval-spp") && std::filesystem::exists(record_file)) {
+            const auto record = read_json_file(record_file, "evaluation record");
+            if (record.is_object() && record.contains("spp") && record["spp"].is_number_integer())
+              evaluation.spp = record["spp"].get<int>();
+          }
+          require_same_record(record_file, radiosity::evaluation_record(evaluation, *reference),
+                              "evaluation columns in log.csv",
+                              {{"reference", "--reference (its pixels)"},
+                               {"width", "--reference (its width)"},
+                               {"height", "--reference (its height)"},
+                               {"spp", "--eval-spp"}});
+          if (!given("--eval-every")) evaluation.every = trainer.config().checkpoint_every;
+          watch.evaluate_every = evaluation.every;
+          watch.evaluate = [&] {
+            return radiosity::evaluate_model(geometry, field, *reference, evaluation.spp).metrics;
+          };
+        }
+        const auto write_preview = [&] {
+          image::write_png(opt->preview, radiosity::render(geometry, field, radiosity::preview_settings(scene.camera)));
+        };
+        if (preview) {
+          const long every = given("--preview-every") ? opt->preview_every
+                             : evaluate               ? evaluation.every
+                                                      : trainer.config().checkpoint_every;
+          watch.after_step = [&, every](double) {
+            if (long(trainer.steps_done()) % every == 0) write_preview();
+          };
+        }
         std::cerr << "train: " << opt->scene << " on " << ctx.device().describe() << ", "
                   << radiosity::to_string(trainer.config().method) << ", batch " << trainer.config().batch << " × "
                   << trainer.config().samples << " samples, " << trainer.network().parameter_count() << " parameters";
@@ -192,9 +280,17 @@ Command add_train_command(CLI::App& app) {
                     << trainer.config().bsdf_fraction << ")";
         if (ranks.distributed()) std::cerr << ", " << ranks.size() << " MPI ranks";
         std::cerr << "\n";
-        trainer.run();
+        trainer.run(watch);
         if (ranks.distributed()) print_exchange(trainer.exchange().stats(), trainer.steps_done() - first_step);
         std::cout << "model: " << opt->run_dir << "/model.clr (" << trainer.steps_done() << " steps)\n";
+        // The paper's tables report memory beside time (bench/paper_tables.sh reads this line).
+        std::cout << "peak device memory: " << double(ctx.peak_bytes()) / double(1 << 20) << " MiB\n";
+        if (preview && !stop_requested()) {
+          write_preview();
+          std::cout << "preview: " << opt->preview << "\n";
+        }
+        if (const auto figure = radiosity::write_convergence_figure(opt->run_dir))
+          std::cout << "convergence: " << figure->string() << "\n";
         return 0;
       }};
 }

@@ -270,7 +270,7 @@ void Gemm::run_clblast(Op op_a, Op op_b, std::size_t m, std::size_t n, std::size
   if (beta == 0.0f) zero_->args(u32(m), u32(n), *c.buf, u32(c.offset), u32(c.ld)).launch({n, m}, {16, 4});
   const auto status =
       clblast::Gemm<float>(clblast::Layout::kRowMajor, t(op_a), t(op_b), m, n, k, alpha, a.buf->get(), a.offset, a.ld,
-                           b.buf->get(), b.offset, b.ld, beta, c.buf->get(), c.offset, c.ld, &queue, nullptr);
+                           b.buf->get(), b.offset, b.ld, beta, c.buf->get(), c.offset, c.ld, &queue, ctx_->span_slot());
   if (status != clblast::StatusCode::kSuccess)
     throw std::runtime_error("clblast::Gemm(" + std::to_string(m) + "x" + std::to_string(n) + "x" + std::to_string(k) +
                              ") failed with status " + std::to_string(int(status)));

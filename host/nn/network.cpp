@@ -339,6 +339,21 @@ void Network::add_tensors(Checkpoint& c, const std::string& prefix) const {
   }
 }
 
+void Network::add_parameter_tensors(Checkpoint& c, const std::string& prefix) const {
+  c.tensors.emplace_back(prefix + "mlp.params", mlp_.params().read());
+  if (const HashGrid* g = encoder_.grid()) c.tensors.emplace_back(prefix + "grid.table", g->params().read());
+}
+
+void Network::restore_parameters(const Checkpoint& c, const std::string& path, const std::string& prefix) {
+  mlp_.params().write(c.tensor(path, prefix + "mlp.params", mlp_.params().size()));
+  if (HashGrid* g = encoder_.grid()) g->params().write(c.tensor(path, prefix + "grid.table", g->params().size()));
+}
+
+void Network::copy_parameters(const Network& other) {
+  mlp_.params().copy_from(other.mlp_.params());
+  if (HashGrid* g = encoder_.grid()) g->params().copy_from(other.encoder_.grid()->params());
+}
+
 void Network::save(const std::string& path, const std::string& rng_state) const {
   write_checkpoint(path, checkpoint(rng_state));
 }

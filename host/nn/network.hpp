@@ -91,6 +91,12 @@ class Network {
   std::string load(const std::string& path);
   // The tensors add_tensors wrote under `prefix` (sizes checked; InputError naming `path` otherwise) and the step.
   void restore(const Checkpoint& c, const std::string& path, const std::string& prefix);
+  // The parameters alone (no optimiser state or step), for a copy that is only evaluated: the I-Module as it was
+  // before its last update (radiosity::Trainer's lagged guide).
+  void add_parameter_tensors(Checkpoint& c, const std::string& prefix) const;
+  void restore_parameters(const Checkpoint& c, const std::string& path, const std::string& prefix);
+  // Takes `other`'s parameters (a network of the same config) on the device, enqueued.
+  void copy_parameters(const Network& other);
 
  private:
   cl::Context* ctx_;

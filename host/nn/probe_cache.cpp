@@ -12,14 +12,6 @@
 namespace clr::nn {
 namespace {
 
-std::string device_driver(const cl::Context& ctx) {
-  std::size_t n = 0;
-  CLR_CL_CHECK(clGetDeviceInfo(ctx.device().device, CL_DRIVER_VERSION, 0, nullptr, &n));
-  std::string s(n, '\0');
-  CLR_CL_CHECK(clGetDeviceInfo(ctx.device().device, CL_DRIVER_VERSION, n, s.data(), nullptr));
-  return s.c_str();
-}
-
 std::string cache_file() {
   std::filesystem::path dir;
   if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
@@ -37,7 +29,7 @@ ProbeCache::ProbeCache(const cl::Context& ctx)
     // The type and the emulated limits are part of the key: they change the candidates' launch shapes, so a context
     // that reports itself as a GPU (the tests' GPU-shaped PoCL) must not read a CPU's times of the same device.
     : file_(cache_file()),
-      key_(ctx.device().platform_name + " | " + ctx.device().name + " | " + device_driver(ctx) + " | " +
+      key_(ctx.device().platform_name + " | " + ctx.device().name + " | " + ctx.device().driver_version + " | " +
            cl::type_name(ctx.device().type) + (ctx.device().emulated.empty() ? "" : " | " + ctx.device().emulated)) {
   if (file_.empty()) return;
   // The cache is ours, not the user's: one that cannot be read (a damaged file, a FIFO in its place) is probed anew.

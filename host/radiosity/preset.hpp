@@ -12,11 +12,19 @@
 
 namespace clr::radiosity {
 
-// The presets' names, in order of budget: preview, balanced, quality.
+// The budget presets' names, in order of budget: preview, balanced, quality (the main job's choices).
+const std::vector<std::string>& budget_preset_names();
+// Every preset `train` knows: the budget presets and `paper`.
 const std::vector<std::string>& preset_names();
 
-// Applies preset `name` to `config` (its `network` overrides gain the width and the table size) and returns one
-// line per choice saying what and why. InputError for an unknown name.
+// `paper`: the ISNR paper's settings as far as it states them (§4.3, §5.1; docs/presets.md): the N-Module 512 wide,
+// N = 4 (Table 1; --samples 32 for Table 2), Adam at 5e-3 for both modules, the multiresolution hash grid of the
+// work it cites (Müller et al. 2022), and a step budget of Table 1 where none is given; what it leaves open (the
+// batch among them) is chosen and said. On every device: the paper's settings are a GPU's.
+inline constexpr const char* kPaperPreset = "paper";
+
+// Applies preset `name` to `config` (its `network` overrides gain the width and the table size; `paper` also the
+// grid and the learning rates) and returns one line per choice saying what and why. InputError for an unknown name.
 std::vector<std::string> apply_preset(const std::string& name, TrainConfig& config, const SceneInputs& scene,
                                       const cl::DeviceInfo& device);
 

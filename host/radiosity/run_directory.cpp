@@ -1,5 +1,7 @@
 #include "radiosity/run_directory.hpp"
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -7,6 +9,7 @@
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <system_error>
 
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
@@ -20,6 +23,36 @@ namespace {
 
 constexpr const char* kLogHeader = "step,seconds,loss,lookups,non_finite,learning_rate,residual_power";
 constexpr const char* kGuideLogColumns = ",guide_loss,guided_share";  // isnr runs only
+// The model's error against a reference (train --reference), last so that the columns before keep their places for
+// readers of older logs; empty in rows without an evaluation.
+constexpr const char* kEvaluationLogColumns = ",mape,mse,relmse";
+
+std::string log_header(const TrainConfig& config, bool evaluation_columns) {
+  return std::string(kLogHeader) + (config.guided() ? kGuideLogColumns : "") +
+         (evaluation_columns ? kEvaluationLogColumns : "");
+}
+
+// The shortest decimal that reads back as the same double: the logged MAPE is the one `compare --json` prints.
+std::string shortest(double v) {
+  if (!std::isfinite(v)) return std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf");
+  char text[32];
+  const auto [end, ec] = std::to_chars(text, text + sizeof text, v);
+  return ec == std::errc() ? std::string(text, end) : std::to_string(v);
+}
+
+// A log written before the evaluation columns existed gains them (empty in its rows), so that every row of a resumed
+// run has the header's columns. A header of another shape is left alone.
+void add_evaluation_columns(const fs::path& log_file, const TrainConfig& config) {
+  const std::string text = read_input_text(log_file, "run log");
+  const auto eol = text.find('\n');
+  const std::string header = text.substr(0, eol);
+  if (header != log_header(config, false)) return;
+  std::istringstream rows(eol == std::string::npos ? std::string() : text.substr(eol + 1));
+  std::string out = log_header(config, true) + "\n", line;
+  while (std::getline(rows, line))
+    if (!line.empty()) out += line + ",,,\n";
+  write_record_atomically(log_file, out, "run log");
+}
 
 // A run killed (SIGKILL, power loss) while writing leaves write_atomically's temporary ("model.clr.tmp<pid>")
 // beside the intact file. The caller holds the run's lock, so no live writer owns one: they are removed on resume
@@ -27,8 +60,9 @@ constexpr const char* kGuideLogColumns = ",guide_loss,guided_share";  // isnr ru
 void remove_stale_temporaries(const fs::path& dir) {
   for (const auto& entry : fs::directory_iterator(dir)) {
     const std::string name = entry.path().filename().string();
-    for (const fs::path& file : {RunDirectory::model_path(dir), RunDirectory::config_path(dir),
-                                 RunDirectory::log_path(dir), RunDirectory::scene_path(dir)}) {
+    for (const fs::path& file :
+         {RunDirectory::model_path(dir), RunDirectory::config_path(dir), RunDirectory::log_path(dir),
+          RunDirectory::scene_path(dir), RunDirectory::evaluation_path(dir), RunDirectory::convergence_path(dir)}) {
       const std::string base = file.filename().string() + ".tmp";
       if (name.rfind(base, 0) == 0 && name.size() > base.size() &&
           name.find_first_not_of("0123456789", base.size()) == std::string::npos && entry.is_regular_file()) {
@@ -60,9 +94,13 @@ double logged_seconds(const fs::path& log_file) {
   return seconds;
 }
 
-void write_model(const fs::path& dir, const TrainConfig& config, const nn::Network& network, const nn::Network* guide) {
+constexpr const char* kGuideBefore = "guide_before.";
+
+void write_model(const fs::path& dir, const TrainConfig& config, const nn::Network& network, const nn::Network* guide,
+                 const nn::Network* guide_before = nullptr) {
   nn::Checkpoint c = network.checkpoint(std::to_string(config.seed));
   if (guide) guide->add_tensors(c, "guide.");
+  if (guide_before) guide_before->add_parameter_tensors(c, kGuideBefore);
   nn::write_checkpoint(RunDirectory::model_path(dir).string(), c);
 }
 
@@ -117,8 +155,7 @@ void RunDirectory::start(const TrainConfig& config, const scene::SceneFingerprin
   scene_ = scene;
   write_scene(dir_, scene);
   write_record_atomically(config_path(dir_), nlohmann::json(config).dump(2) + "\n", "run config");
-  write_record_atomically(log_path(dir_), std::string(kLogHeader) + (config.guided() ? kGuideLogColumns : "") + "\n",
-                          "run log");
+  write_record_atomically(log_path(dir_), log_header(config, true) + "\n", "run log");
 }
 
 RunDirectory RunDirectory::resume(const fs::path& dir, const scene::SceneFingerprint& scene) {
@@ -127,7 +164,8 @@ RunDirectory RunDirectory::resume(const fs::path& dir, const scene::SceneFingerp
   remove_stale_temporaries(dir);
   run.config_ = load_config(dir);
   run.seconds_trained_ = logged_seconds(log_path(dir));
-  require_scene(dir, scene);
+  require_scene(dir, scene);  // before the log is touched: a run refused is left as it was
+  add_evaluation_columns(log_path(dir), run.config_);
   run.scene_ = scene;
   return run;
 }
@@ -143,7 +181,7 @@ TrainConfig RunDirectory::load_config(const fs::path& run) {
   }
 }
 
-void RunDirectory::append_log(const LogRow& r) const {
+std::string RunDirectory::log_line(const LogRow& r) const {
   char row[256];
   std::snprintf(row, sizeof row, "%ld,%.3f,%.6g,%.3f,%u,%.6g,%.4g", r.step, r.seconds, r.loss, r.lookups, r.non_finite,
                 r.learning_rate, r.residual_power);
@@ -152,13 +190,31 @@ void RunDirectory::append_log(const LogRow& r) const {
     std::snprintf(row, sizeof row, ",%.6g,%.4f", r.guide_loss, r.guided_share);
     line += row;
   }
+  if (r.evaluation)
+    line +=
+        "," + shortest(r.evaluation->mape) + "," + shortest(r.evaluation->mse) + "," + shortest(r.evaluation->relmse);
+  else
+    line += ",,,";
+  return line + "\n";
+}
+
+void RunDirectory::append_log(const LogRow& r) const {
   std::ofstream out(log_path(dir_), std::ios::app);
-  out << line << "\n";
+  out << log_line(r);
   if (!out) throw std::runtime_error("cannot append to " + log_path(dir_).string());
 }
 
-void RunDirectory::save_model(const nn::Network& network, const nn::Network* guide) const {
-  write_model(dir_, config_, network, guide);
+void RunDirectory::replace_last_log_row(const LogRow& r) const {
+  std::string text = read_input_text(log_path(dir_), "run log");
+  while (!text.empty() && text.back() == '\n') text.pop_back();
+  const auto last = text.rfind('\n');
+  text.resize(last == std::string::npos ? 0 : last + 1);
+  write_record_atomically(log_path(dir_), text + log_line(r), "run log");
+}
+
+void RunDirectory::save_model(const nn::Network& network, const nn::Network* guide,
+                              const nn::Network* guide_before) const {
+  write_model(dir_, config_, network, guide, guide_before);
 }
 
 void RunDirectory::write_snapshot(const fs::path& dir, const TrainConfig& config, const nn::Network& network,
@@ -214,6 +270,19 @@ std::unique_ptr<nn::Network> RunDirectory::load_guide(cl::Context& ctx, const fs
     throw InputError(file.string() + ": guide: " + e.what());
   }
   return load_network(ctx, model_path(run), guide_config, "guide.");
+}
+
+std::unique_ptr<nn::Network> RunDirectory::load_guide_before(cl::Context& ctx, const fs::path& run,
+                                                             const nn::NetworkConfig& guide) {
+  const std::string file = model_path(run).string();
+  const nn::Checkpoint c = nn::read_checkpoint(file);
+  const auto has = [&](const std::string& name) {
+    return std::any_of(c.tensors.begin(), c.tensors.end(), [&](const auto& t) { return t.first == name; });
+  };
+  if (!has(std::string(kGuideBefore) + "mlp.params")) return nullptr;
+  auto network = std::make_unique<nn::Network>(ctx, guide);
+  network->restore_parameters(c, file, kGuideBefore);
+  return network;
 }
 
 }  // namespace clr::radiosity

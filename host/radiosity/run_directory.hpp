@@ -6,11 +6,13 @@
 // (render, residual, guide, a sweep's snapshots) needs no lock: the static readers below.
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cl/context.hpp"
 #include "common/run_lock.hpp"
+#include "image/image.hpp"
 #include "nn/network.hpp"
 #include "radiosity/train_config.hpp"
 #include "scene/fingerprint.hpp"
@@ -29,6 +31,8 @@ struct LogRow {
   // ISNR runs only.
   double guide_loss = 0;
   double guided_share = 0;  // share of incident samples drawn from the I-Module's mixture
+  // The model at this step against a reference (train --reference, convergence.hpp); empty columns without one.
+  std::optional<image::Metrics> evaluation = std::nullopt;
 };
 
 class RunDirectory {
@@ -37,6 +41,9 @@ class RunDirectory {
   static std::filesystem::path log_path(const std::filesystem::path& dir) { return dir / "log.csv"; }
   static std::filesystem::path model_path(const std::filesystem::path& dir) { return dir / "model.clr"; }
   static std::filesystem::path scene_path(const std::filesystem::path& dir) { return dir / "scene.json"; }
+  // What `train --reference` adds (convergence.hpp): the record of what its log columns measure, and their figure.
+  static std::filesystem::path evaluation_path(const std::filesystem::path& dir) { return dir / "evaluation.json"; }
+  static std::filesystem::path convergence_path(const std::filesystem::path& dir) { return dir / "convergence.svg"; }
 
   // A new run: `dir` must be absent or empty. Locks and creates it; start() writes its first files once the
   // settings are complete.
@@ -54,8 +61,13 @@ class RunDirectory {
   double seconds_trained() const { return seconds_trained_; }
 
   void append_log(const LogRow& row) const;
-  // model.clr, written atomically: the previous one stays intact until the new one is complete.
-  void save_model(const nn::Network& network, const nn::Network* guide) const;
+  // Replaces log.csv's last row by `row` (atomically: the whole file is rewritten): the run's last step, logged
+  // before anyone knew it was the last, gains its evaluation.
+  void replace_last_log_row(const LogRow& row) const;
+  // model.clr, written atomically: the previous one stays intact until the new one is complete. `guide_before`: the
+  // lagged guide's I-Module before its last update (parameters only), which the next step draws from.
+  void save_model(const nn::Network& network, const nn::Network* guide,
+                  const nn::Network* guide_before = nullptr) const;
   // The networks as they are now, as a run directory of their own (config.json + model.clr) that render, residual
   // and guide read: a sweep's snapshot of the run at one budget.
   void write_snapshot(const std::filesystem::path& dir, const TrainConfig& config, const nn::Network& network,
@@ -73,6 +85,10 @@ class RunDirectory {
   // The I-Module of an ISNR run: its config from config.json, its tensors from model.clr. InputError when the run
   // was trained without one (method nr) or its files are missing or damaged.
   static std::unique_ptr<nn::Network> load_guide(cl::Context& ctx, const std::filesystem::path& run);
+  // The lagged guide's I-Module before its last update, where model.clr holds it (null where it does not: a run
+  // without the lag, or written before it existed), as a network of the guide's config.
+  static std::unique_ptr<nn::Network> load_guide_before(cl::Context& ctx, const std::filesystem::path& run,
+                                                        const nn::NetworkConfig& guide);
   // The run's settings as saved (InputError naming the file when it is missing or malformed).
   static TrainConfig load_config(const std::filesystem::path& run);
   // The training time of every session of `run` (a run directory or its model.clr): log.csv's last row.
@@ -80,6 +96,7 @@ class RunDirectory {
 
  private:
   RunDirectory(const std::filesystem::path& dir, bool create);
+  std::string log_line(const LogRow& row) const;
   std::filesystem::path dir_;
   std::unique_ptr<RunLock> lock_;
   TrainConfig config_;

@@ -72,6 +72,7 @@ void TrainConfig::validate() const {
   // c = 0 would never draw a delta lobe (its share of p̃ is c): the estimate would lose that light.
   require(bsdf_fraction > 0 && bsdf_fraction <= 1, "bsdf_fraction", bsdf_fraction, "in (0, 1]");
   require(guide_warmup >= 0 && guide_warmup <= 1, "guide_warmup", guide_warmup, "in [0, 1]");
+  require(guide_lag == 0 || guide_lag == 1, "guide_lag", guide_lag, "0 or 1");
   require(samples >= 1 && samples <= 1024, "samples", samples, "in [1, 1024]");
   require(batch >= 0 && batch <= (1 << 22), "batch", batch, "in [1, 4194304] (0 = automatic)");
   require(std::max(batch, 1) * static_cast<long long>(samples) <= kMaxIncidentSamples, "batch × samples",

@@ -41,6 +41,12 @@ struct TrainConfig {
   // 1 − bsdf_fraction. The I-Module learns from the BSDF's samples meanwhile; an untrained guide only adds
   // variance, which the N-Module then fits.
   double guide_warmup = 0.1;
+  // How many I-Module updates behind the step its guided directions are (isnr). 0: drawn from the I-Module after the
+  // previous step's update, so the host traces them only once that update is done (the step's one blocking read).
+  // 1: drawn from the I-Module before the previous step's update — step k+1's directions are drawn and read back
+  // early in step k, and the host traces them while the device runs step k's networks (docs/design.md §2). The
+  // estimate stays unbiased either way: p̃ is the density the directions were drawn from.
+  int guide_lag = 0;
   Residual residual = Residual::Relative;
   int samples = 4;     // N incident directions per point
   int batch = 0;       // M points per step; 0 = chosen for the device
@@ -89,8 +95,8 @@ struct TrainConfig {
   void forget_scene();
 };
 
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, is_loss, bsdf_fraction, guide_warmup, residual,
-                                                samples, batch, steps, minutes, seed, preset, anneal_start,
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, is_loss, bsdf_fraction, guide_warmup, guide_lag,
+                                                residual, samples, batch, steps, minutes, seed, preset, anneal_start,
                                                 anneal_final, relative_fade_end, log_every, checkpoint_every, network,
                                                 guide)
 

@@ -75,6 +75,10 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
     config_ = saved;
     network_ = RunDirectory::load_radiance(ctx, run_dir);
     if (config_.guided()) guide_ = RunDirectory::load_guide(ctx, run_dir);
+    if (lagged()) {
+      guide_before_ = RunDirectory::load_guide_before(ctx, run_dir, guide_->config());
+      if (guide_before_) before_step_ = guide_->steps() - 1;
+    }
     // The log's last row carries the training time so far, so resumed rows continue its time axis.
     seconds_before_ = run_->seconds_trained();
   } else {
@@ -89,6 +93,10 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
     run_->start(config_, scene::fingerprint(geometry.scene()));
   }
   share_rank0_state();
+  if (lagged()) {
+    if (!guide_before_) guide_before_ = std::make_unique<nn::Network>(ctx, guide_->config());
+    incident_.set_lagged(true);
+  }
   residual_power_ = float(config_.relative_power(0.0));
   const auto share = distributed::share_of(std::size_t(config_.batch), ranks.rank(), ranks.size());
   batch_settings_.points = share.count;
@@ -106,13 +114,34 @@ void Trainer::set_schedule(StepSchedule schedule) {
   prepared_.reset();
 }
 
+BatchSettings Trainer::settings_for(std::uint64_t step) const {
+  BatchSettings settings = batch_settings_;
+  // run() sets c from the spent fraction of the budget, which for a step budget alone is step / steps (the same
+  // arithmetic, so a batch traced ahead with it is the batch the step asks for).
+  if (guide_ && config_.steps > 0 && config_.minutes <= 0 && !hold_radiance_)
+    settings.bsdf_fraction = float(config_.bsdf_fraction_at(double(step) / double(config_.steps)));
+  return settings;
+}
+
 void Trainer::prepare_ahead(std::uint64_t step) {
-  sample_training_points(sampler_, geometry_->scene(), batch_settings_, config_.seed, step, batch_);
-  // ISNR guides a share 1 - c of the directions from the first step on (the warm-up ramps c down from 1), and those
-  // need step k+1's lobes, i.e. the I-Module after step k's update: only a run with c = 1 throughout traces ahead.
-  const bool trace = !IncidentSampling::guided(batch_settings_) && (!guide_ || config_.bsdf_fraction >= 1.0);
-  if (trace) incident_.trace(*geometry_, batch_settings_, config_.seed, step, batch_);
-  prepared_ = Prepared{step, batch_settings_, trace};
+  const BatchSettings settings = settings_for(step);
+  if (next_points_ == step) {
+    std::swap(batch_, next_batch_);
+    next_points_.reset();
+  } else {
+    sample_training_points(sampler_, geometry_->scene(), settings, config_.seed, step, batch_);
+  }
+  // ISNR guides a share 1 - c of the directions from the first step on (the warm-up ramps c down from 1). Without
+  // the lag those need step k+1's lobes, i.e. the I-Module after step k's update: only a run with c = 1 throughout
+  // traces ahead. With the lag they were drawn early in step k and are read back by now.
+  const bool trace = lagged() || (!IncidentSampling::guided(settings) && (!guide_ || config_.bsdf_fraction >= 1.0));
+  if (trace) incident_.trace(*geometry_, settings, config_.seed, step, batch_);
+  // The lag draws the lobes of step k+2 during step k+1: their points are drawn now, on the host's time.
+  if (lagged() && continues_after(step)) {
+    sample_training_points(sampler_, geometry_->scene(), settings, config_.seed, step + 1, next_batch_);
+    next_points_ = step + 1;
+  }
+  prepared_ = Prepared{step, settings, trace};
 }
 
 StepStats Trainer::step() {
@@ -130,19 +159,32 @@ StepStats Trainer::step() {
   }
   if (ahead) ++steps_prepared_ahead_;
   const bool pipelined = schedule_ == StepSchedule::Pipelined;
-  if (!ahead) sample_training_points(sampler_, geometry_->scene(), batch_settings_, config_.seed, step, batch_);
+  if (!ahead) {
+    if (next_points_ == step) {
+      std::swap(batch_, next_batch_);
+      next_points_.reset();
+    } else {
+      sample_training_points(sampler_, geometry_->scene(), batch_settings_, config_.seed, step, batch_);
+    }
+  }
   const std::size_t M = batch_.points, N = batch_.samples;
-  if (pipelined)
-    point_rows_up_.send(*ctx_, point_rows_, batch_.point_rows);
-  else
-    cl::upload(*ctx_, point_rows_, batch_.point_rows);
+  {
+    const StageTimer timer(batch_, &HostStageTimes::uploads);
+    if (pipelined)
+      point_rows_up_.send(*ctx_, point_rows_, batch_.point_rows);
+    else
+      cl::upload(*ctx_, point_rows_, batch_.point_rows);
+  }
+  if (batch_.times) ++batch_.times->steps;
   // The I-Module's lobes at the points, activations kept for its backward.
   if (guide_) {
     guide_->forward_train(point_rows_, M, guide_ctx_);
     incident_.decode(guide_ctx_.output(), batch_);
   }
+  if (lagged()) draw_lagged_lobes(step);
   if (!traced) incident_.trace(*geometry_, batch_settings_, config_.seed, step, batch_);
   incident_.upload(batch_settings_, batch_);
+  if (lagged()) incident_.advance(step);
   const std::size_t K = batch_.lookups();
   cl::reserve(*ctx_, incident_radiance_, K * 3);
   cl::reserve(*ctx_, rhs_, M * 3);
@@ -182,6 +224,11 @@ StepStats Trainer::step() {
                          config_.is_loss == IsLoss::Ikl, d_lobes_, std::size_t(config_.batch));
     guide_->backward(guide_ctx_, d_lobes_);
     exchange_.reduce(*guide_);
+    if (lagged()) {
+      // The parameters step k+1's directions were drawn from (early in this step), kept for a checkpoint.
+      guide_before_->copy_parameters(*guide_);
+      before_step_ = step;
+    }
     guide_->adam_step();
   }
   StepStats stats;
@@ -189,15 +236,49 @@ StepStats Trainer::step() {
   stats.guided = batch_.guided;
   // Step k's network math is enqueued and needs none of batch_'s host arrays any more (uploads copied them): the
   // host prepares step k+1 while the device computes. Not after the run's last step.
-  if (pipelined && (config_.steps <= 0 || step + 1 < std::uint64_t(config_.steps))) {
+  if (pipelined && continues_after(step)) {
     cl::flush(*ctx_);
     prepare_ahead(step + 1);
   }
   return stats;
 }
 
+void Trainer::draw_lagged_lobes(std::uint64_t step) {
+  const std::size_t M = batch_.points;
+  if (!incident_.drawn_ahead(step)) {
+    // A session's first step: its directions come from the I-Module before the last update where the checkpoint
+    // kept it (what an uninterrupted run drew them from), else from the current one (the run's first step).
+    if (guide_before_ && before_step_ && *before_step_ + 1 == step) {
+      cl::reserve(*ctx_, sampling_raw_, M * kVmfRaw);
+      guide_before_->infer(point_rows_, M, sampling_raw_);
+      incident_.decode_sampling(sampling_raw_, batch_);
+    } else {
+      incident_.decode_sampling(guide_ctx_.output(), batch_);
+    }
+  }
+  if (!continues_after(step)) return;
+  // Step k+1's lobes from the I-Module before this step's update, its directions drawn and read back while the
+  // device goes on with this step's networks.
+  if (next_points_ != step + 1) {
+    sample_training_points(sampler_, geometry_->scene(), batch_settings_, config_.seed, step + 1, next_batch_);
+    next_points_ = step + 1;
+  }
+  {
+    const StageTimer timer(next_batch_, &HostStageTimes::uploads);
+    if (schedule_ == StepSchedule::Pipelined)
+      next_rows_up_.send(*ctx_, next_rows_, next_batch_.point_rows);
+    else
+      cl::upload(*ctx_, next_rows_, next_batch_.point_rows);
+  }
+  cl::reserve(*ctx_, next_raw_, M * kVmfRaw);
+  guide_->infer(next_rows_, M, next_raw_);
+  incident_.draw_ahead(next_raw_, next_batch_, config_.seed, step + 1);
+}
+
 void Trainer::save_checkpoint() const {
-  if (run_) run_->save_model(*network_, guide_.get());
+  // The copy of the I-Module before its update is the one the next step draws from only right after that update.
+  const bool before = guide_before_ && before_step_ && *before_step_ + 1 == guide_->steps();
+  if (run_) run_->save_model(*network_, guide_.get(), before ? guide_before_.get() : nullptr);
 }
 
 void Trainer::save_snapshot(const fs::path& dir) const {
@@ -233,8 +314,18 @@ void Trainer::run(const RunOptions& options) {
   // Ranks agree on stopping and on the budget spent (the learning rate follows it), or their models would part.
   const distributed::Communicator& ranks = exchange_.communicator();
   double lr_scale = 1;
+  long last_evaluated = -1;
+  LogRow last_row;  // the row last written, for the run's final evaluation when no row follows it
+  // The model's figures for `now`'s row, timed out of the training time.
+  const auto evaluation = [&](long now) {
+    const auto evaluate_start = std::chrono::steady_clock::now();
+    const image::Metrics m = options.evaluate();
+    outside_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - evaluate_start).count();
+    last_evaluated = now;
+    return m;
+  };
   // One row of log.csv over the steps since the last one.
-  const auto log_row = [&](long now) {
+  const auto log_row = [&](long now, bool evaluate) {
     nn::LossValue v = loss_.take();
     nn::LossValue g = guide_ ? incident_.vmf().take() : nn::LossValue{0, 0};
     // Incident terms dropped while forming the right-hand side count too: they never reach the loss, so the
@@ -254,17 +345,18 @@ void Trainer::run(const RunOptions& options) {
     }
     loss_sum = v.loss / double(loss_steps);
     const double samples = double(loss_steps * config_.batch * config_.samples);
-    if (run_)
-      run_->append_log(
-          {.step = now,
-           .seconds = seconds_before_ + elapsed(),
-           .loss = loss_sum,
-           .lookups = double(lookups) / samples,
-           .non_finite = v.non_finite + g.non_finite + rhs_dropped,
-           .learning_rate = lr_scale * double(network_->config().adam.learning_rate_at(std::uint64_t(now))),
-           .residual_power = double(residual_power_),
-           .guide_loss = g.loss / double(loss_steps),
-           .guided_share = double(guided) / samples});
+    last_row = {.step = now,
+                .seconds = seconds_before_ + elapsed(),
+                .loss = loss_sum,
+                .lookups = double(lookups) / samples,
+                .non_finite = v.non_finite + g.non_finite + rhs_dropped,
+                .learning_rate = lr_scale * double(network_->config().adam.learning_rate_at(std::uint64_t(now))),
+                .residual_power = double(residual_power_),
+                .guide_loss = g.loss / double(loss_steps),
+                .guided_share = double(guided) / samples,
+                .evaluation = std::nullopt};
+    if (evaluate) last_row.evaluation = evaluation(now);
+    if (run_) run_->append_log(last_row);
     char detail[128];
     std::snprintf(detail, sizeof detail, "step %ld  loss %.4g  %.2f steps/s", now, loss_sum,
                   double(now - first_step) / std::max(1e-9, elapsed()));
@@ -288,7 +380,11 @@ void Trainer::run(const RunOptions& options) {
     guided += stats.guided;
     ++loss_steps;
     const long now = long(network_->steps());
-    if (now % config_.log_every == 0) log_row(now);
+    // The last step is known here for a step budget (and for a time budget spent already): its row carries the
+    // final evaluation.
+    const bool evaluate_now = options.evaluate && ((options.evaluate_every > 0 && now % options.evaluate_every == 0) ||
+                                                   (!stop_requested() && spent() >= 1.0));
+    if (now % config_.log_every == 0 || evaluate_now) log_row(now, evaluate_now);
     if (now % kRankCheckEvery == 0) check_ranks_agree(std::uint64_t(now));
     if (now % config_.checkpoint_every == 0) save_checkpoint();
     const double iteration_s = elapsed() - iteration_start;
@@ -307,7 +403,15 @@ void Trainer::run(const RunOptions& options) {
   seconds_this_session_ = elapsed();
   // The steps since the last row get one too, so that log.csv's time axis ends where the training did: a resumed
   // run (and a sweep's budget in total) starts from it.
-  if (loss_steps > 0) log_row(long(network_->steps()));
+  const long end = long(network_->steps());
+  const bool evaluate_end = options.evaluate && !stop_requested() && last_evaluated != end && end > first_step;
+  if (loss_steps > 0) {
+    log_row(end, evaluate_end);
+  } else if (evaluate_end && run_) {
+    // A time budget ran out after a row was logged at its last step: that row gains the evaluation.
+    last_row.evaluation = evaluation(end);
+    run_->replace_last_log_row(last_row);
+  }
   check_ranks_agree(network_->steps());
   save_checkpoint();
   progress.finish(last + (stop_requested() ? "  (stopped by signal; checkpoint written)" : ""));

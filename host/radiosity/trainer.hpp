@@ -66,12 +66,19 @@ class Trainer {
     // Called after every step with the run's training seconds so far (earlier sessions included). The time spent
     // in it does not count as training time, so writing a snapshot from it costs the run nothing.
     std::function<void(double seconds)> after_step;
+    // Called at every `evaluate_every`-th step and at the run's last step (not after a stop signal); its figures
+    // go into that step's log.csv row, which is logged whatever log_every says (convergence.hpp: train
+    // --reference). Its time, like after_step's, is not training time.
+    long evaluate_every = 0;
+    std::function<image::Metrics()> evaluate;
   };
   // Trains until the step or time budget is spent or a stop signal arrives; checkpoints at the end.
   void run(const RunOptions& options);
   void run() { run(RunOptions{}); }
   StepStats step();
   void set_schedule(StepSchedule schedule);
+  // Adds the host's stage times of every later step to *times (null: stops timing; benchmarks only).
+  void time_host_stages(HostStageTimes* times) { batch_.times = next_batch_.times = times; }
   StepSchedule schedule() const { return schedule_; }
   // Steps whose batch was prepared during the step before (pipelined) and used.
   std::uint64_t steps_prepared_ahead() const { return steps_prepared_ahead_; }
@@ -98,9 +105,20 @@ class Trainer {
   static constexpr long kRankCheckEvery = 200;
   void share_rank0_state();
   void check_ranks_agree(std::uint64_t step) const;
-  // The host's stages of `step` that need neither network: its points, and its traced incident half where no
-  // direction is guided (method nr, or isnr with c = 1 throughout).
+  // The host's stages of `step` that can run while the device computes the step before: its points, and its traced
+  // incident half where no direction is guided (method nr, or isnr with c = 1 throughout) or where the guided
+  // directions were drawn ahead (the lagged guide).
   void prepare_ahead(std::uint64_t step);
+  bool lagged() const { return guide_ && config_.guide_lag == 1; }
+  // Whether the run goes on after `step` (a step budget ends it); a time budget is not known ahead.
+  bool continues_after(std::uint64_t step) const {
+    return config_.steps <= 0 || step + 1 < std::uint64_t(config_.steps);
+  }
+  // c for a step not yet begun, where the budget is in steps alone (it follows from the step); else the current c.
+  BatchSettings settings_for(std::uint64_t step) const;
+  // The lagged guide's device work early in `step`: the lobes its directions come from where none were drawn
+  // ahead, then step + 1's lobes and directions (read back without blocking).
+  void draw_lagged_lobes(std::uint64_t step);
 
   cl::Context* ctx_;
   const geometry::Geometry* geometry_;
@@ -131,6 +149,16 @@ class Trainer {
   std::unique_ptr<nn::Network> guide_;
   nn::NetworkContext guide_ctx_;
   cl::Buffer<float> d_lobes_;
+  // The lagged guide (config_.guide_lag = 1): the next step's points, drawn a step early so its lobes can be;
+  // their row buffer and the I-Module's raw outputs there.
+  TrainingBatch next_batch_;
+  std::optional<std::uint64_t> next_points_;  // the step next_batch_'s points are for
+  cl::Buffer<float> next_rows_, next_raw_, sampling_raw_;
+  cl::PinnedUpload<float> next_rows_up_;
+  // The I-Module before its last update, whose lobes drew this step's directions (checkpointed as guide_before.*,
+  // so a resumed run draws exactly what an uninterrupted one would), and the step whose update followed the copy.
+  std::unique_ptr<nn::Network> guide_before_;
+  std::optional<std::uint64_t> before_step_;
   bool hold_radiance_ = false;
   cl::Buffer<float> point_radiance_;  // sg(L_α) at the points, where no forward computed it (held N-Module)
   double seconds_before_ = 0;         // training time of earlier sessions of a resumed run

@@ -40,6 +40,16 @@ void Trainer::share_rank0_state() {
                      std::to_string(ranks.size()) + " ranks sharing it");
   share_network_state(ranks, *network_);
   if (guide_) share_network_state(ranks, *guide_);
+  if (lagged()) {
+    // The I-Module before its last update, where rank 0 resumed with it: every rank draws the same lobes from it.
+    std::uint64_t has_before = guide_before_ ? 1 : 0;
+    ranks.broadcast(std::span<std::uint64_t>(&has_before, 1));
+    if (has_before) {
+      if (!guide_before_) guide_before_ = std::make_unique<nn::Network>(*ctx_, guide_->config());
+      share_network_state(ranks, *guide_before_);
+      before_step_ = guide_->steps() - 1;
+    }
+  }
 }
 
 void Trainer::check_ranks_agree(std::uint64_t step) const {

@@ -1,6 +1,8 @@
 #include "radiosity/training_batch.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <mutex>
 
 #include "common/parallel.hpp"
 #include "geometry/delta_lighting.hpp"
@@ -14,11 +16,29 @@ std::uint64_t stream_id(std::uint64_t seed, std::uint64_t step, std::uint64_t us
   return (seed * 0x9E3779B97F4A7C15ull) ^ (step * 0xBF58476D1CE4E5B9ull) ^ (use * 0x94D049BB133111EBull);
 }
 
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Thread time of the incident loop's parts, kept per chunk and added once a chunk; the clock is read only when the
+// batch is timed (a few reads a sample would cost a tenth of the loop).
+struct PartClock {
+  bool on;
+  Clock::time_point last = on ? Clock::now() : Clock::time_point{};
+  double bsdf = 0, tracing = 0, delta = 0;
+  void lap(double& part) {
+    if (!on) return;
+    const auto now = Clock::now();
+    part += std::chrono::duration<double>(now - last).count();
+    last = now;
+  }
+};
+
 }  // namespace
 
 void sample_training_points(const geometry::SurfaceSampler& sampler, const scene::Scene& scene,
                             const BatchSettings& settings, std::uint64_t seed, std::uint64_t step,
                             TrainingBatch& batch) {
+  const auto start = Clock::now();
   const std::size_t M = settings.points, R = nn::kRawInputs;
   batch.points = M;
   batch.samples = settings.samples;
@@ -40,6 +60,7 @@ void sample_training_points(const geometry::SurfaceSampler& sampler, const scene
       write_raw_row(scene, x.point, wo, &batch.point_rows[m * R]);
     }
   });
+  if (batch.times) batch.times->points += seconds_since(start);
 }
 
 void trace_incident(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed,
@@ -59,7 +80,11 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
   // Every sample's would-be lookup row, compacted afterwards in sample order (deterministic).
   std::vector<float> candidate(M * N * R);
 
+  HostStageTimes* const times = batch.times;
+  std::mutex times_mutex;
+  auto start = Clock::now();
   parallel_for(M, 64, [&](std::size_t first, std::size_t last) {
+    PartClock clock{times != nullptr};
     for (std::size_t m = first; m < last; ++m) {
       Pcg32 rng(batch.first_point + m, stream_id(seed, step, 3));
       const auto& x = batch.surface[m];
@@ -69,6 +94,7 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
         const Rgb d = geometry::reflected_delta_lights(geometry, x.point, bsdf, wo);
         std::copy_n(&d.x, 3, &batch.direct[3 * m]);
       }
+      clock.lap(clock.delta);
       for (std::size_t n = 0; n < N; ++n) {
         const std::size_t s = m * N + n;
         Vec3 wi;
@@ -91,6 +117,7 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
           batch.bsdf_pdf[s] = delta ? -1.0f : bs->pdf;
         }
         if (keep) std::copy_n(&wi.x, 3, &batch.directions[3 * s]);
+        clock.lap(clock.bsdf);
         if (fcos == Rgb(0.0f)) continue;
         const PathEnd path =
             trace_to_surface(geometry, {x.point.spawn_origin(wi), 0.0f, wi}, rng, settings.max_delta_bounces);
@@ -102,9 +129,20 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
           write_raw_row(scene, path.point, path.wo, &candidate[s * R]);
           batch.lookup[s] = 0;  // marked; numbered below
         }
+        clock.lap(clock.tracing);
       }
     }
+    if (times) {
+      std::lock_guard lock(times_mutex);
+      times->bsdf_cpu += clock.bsdf;
+      times->tracing_cpu += clock.tracing;
+      times->delta_lights_cpu += clock.delta;
+    }
   });
+  if (times) {
+    times->incident += seconds_since(start);
+    start = Clock::now();
+  }
 
   batch.guided = std::size_t(std::count(from_guide.begin(), from_guide.end(), std::uint8_t(1)));
   // Without a guide p̃ is the BSDF's own density (the discrete lobe probability is already in a delta weight).
@@ -118,6 +156,7 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
   batch.incident_rows.resize(rows * R);
   for (std::size_t s = 0; s < M * N; ++s)
     if (batch.lookup[s] >= 0) std::copy_n(&candidate[s * R], R, &batch.incident_rows[std::size_t(batch.lookup[s]) * R]);
+  if (times) times->packing += seconds_since(start);
 }
 
 void guide_uniforms(std::size_t points, std::size_t samples, std::uint64_t seed, std::uint64_t step,

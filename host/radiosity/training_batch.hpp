@@ -5,6 +5,7 @@
 // directions the device drew — traced through delta chains to the next modelled surface. What the device needs
 // comes out as flat arrays; the network is evaluated only on the `incident` rows (compacted), never on rays that
 // escaped or died.
+#include <chrono>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -13,6 +14,22 @@
 #include "radiosity/surface_query.hpp"
 
 namespace clr::radiosity {
+
+// Host time of a batch's stages, summed over the steps that filled it (bench_guide, bench_pipeline: a host that
+// cannot keep up with the device shows here on any machine). Wall seconds, except the *_cpu parts of the incident
+// loop, which are seconds summed over its threads.
+struct HostStageTimes {
+  double points = 0;      // sample_training_points: points, ω_o, their input rows
+  double guide_read = 0;  // the guided directions drawn and read back: the host waits for the device's work before
+  double incident = 0;    // the incident loop: BSDF sampling, tracing, delta lights …
+  double bsdf_cpu = 0, tracing_cpu = 0, delta_lights_cpu = 0;  // … split by thread time
+  double packing = 0;  // lookup rows compacted, p̃ without a guide, the lobes' frames
+  double uploads = 0;  // the batch's arrays handed to the device (blocking writes, or copies into pinned memory)
+  std::size_t steps = 0;
+
+  // The host's own work; guide_read is mostly waiting for the device.
+  double host_work() const { return points + incident + packing + uploads; }
+};
 
 struct TrainingBatch {
   std::size_t points = 0, samples = 0;
@@ -33,9 +50,26 @@ struct TrainingBatch {
   // which no sampled direction can reach, with shadow rays — the next-event term added to the point's RHS as a
   // constant. Empty when the scene has none. Not part of the samples, so the I-Module never guides towards it.
   std::vector<float> direct;
-  std::size_t guided = 0;  // samples whose direction came from q
+  std::size_t guided = 0;           // samples whose direction came from q
+  HostStageTimes* times = nullptr;  // where the stages that fill this batch add their time; null: not timed
 
   std::size_t lookups() const { return incident_rows.size() / nn::kRawInputs; }
+};
+
+// Adds the wall time of its scope to one of a batch's stages (nothing when the batch is not timed).
+class StageTimer {
+ public:
+  StageTimer(const TrainingBatch& batch, double HostStageTimes::*stage)
+      : target_(batch.times ? &(batch.times->*stage) : nullptr) {}
+  ~StageTimer() {
+    if (target_) *target_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+
+ private:
+  double* target_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
 struct BatchSettings {

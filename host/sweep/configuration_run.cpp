@@ -1,7 +1,6 @@
 #include "sweep/configuration_run.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -11,6 +10,7 @@
 #include "common/error.hpp"
 #include "common/input_file.hpp"
 #include "common/stop_signal.hpp"
+#include "radiosity/convergence.hpp"
 #include "radiosity/residual.hpp"
 #include "radiosity/run_directory.hpp"
 #include "radiosity/trained_model.hpp"
@@ -111,17 +111,16 @@ void evaluate(const SweepContext& sweep, const Configuration& config, const Targ
   // A few pixels first, so that the timed render does not include building the device's programs (a resumed
   // sweep evaluates snapshots before any training has built them).
   radiosity::render(sweep.geometry, field, {.width = 4, .height = 4, .spp = 1});
-  radiosity::RenderSettings settings{
-      .width = sweep.reference.width, .height = sweep.reference.height, .spp = sweep.options.render_spp};
-  const auto start = std::chrono::steady_clock::now();
-  const auto img = radiosity::render(sweep.geometry, field, settings);
+  // The same measure as `train --reference`: a row equals the log.csv columns of a run evaluated the same way.
+  const auto evaluation = radiosity::evaluate_model(sweep.geometry, field, sweep.reference, sweep.options.render_spp);
+  const auto& img = evaluation.image;
   Row r = base_row(config, t);
-  r.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.render_seconds = evaluation.render_seconds;
   r.steps = record_field<std::uint64_t>(info, "steps", record);  // a steps point's own count: the hook saw every step
   r.seconds = record_field<double>(info, "seconds", record);
   r.peak_device_mib = double(record_field<std::uint64_t>(info, "peak_device_bytes", record)) / double(1 << 20);
-  r.spp = settings.spp;
-  const auto m = image::compare(img, sweep.reference);
+  r.spp = sweep.options.render_spp;
+  const auto& m = evaluation.metrics;
   r.mape = m.mape;
   r.mse = m.mse;
   r.relmse = m.relmse;

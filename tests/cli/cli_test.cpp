@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "cl/device.hpp"
@@ -112,6 +114,43 @@ TEST(Cli, DevicesListsEveryDeviceAndMarksTheDefault) {
   r = run_cli("devices --json --device " + devices.back().spec());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(nlohmann::json::parse(r.out).size(), 1u);
+}
+
+// --threads N / CLRADIOSITY_THREADS on every computing command: impossible values are refused naming the flag or
+// the variable; the count changes how fast, never what: a reference renders byte for byte the same on one thread.
+TEST(Cli, ThreadCountIsCheckedAndChangesNoResult) {
+  const std::string box = std::string(CLR_SOURCE_DIR) + "/scenes/cornell-box.xml";
+  const std::string reference = "reference " + box + " --spp 8 --width 24 --height 24 -o ";
+  for (const std::string& args :
+       {reference + "/tmp/x.exr --threads 0", reference + "/tmp/x.exr --threads many",
+        "train " + box + " --steps 1 -o /tmp/r --threads -3",
+        "render " + box + " --model /tmp/none -o x.exr --threads 5000", std::string("--threads 0")}) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_THAT(r.err, HasSubstr("--threads")) << args;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+  }
+  for (const char* value : {"abc", "0", "2x", "99999"}) {
+    const auto r = run_cli(reference + "/tmp/x.exr", std::string("CLRADIOSITY_THREADS=") + value);
+    EXPECT_EQ(r.exit_code, 2) << value;
+    EXPECT_THAT(r.err, HasSubstr("CLRADIOSITY_THREADS")) << value;
+  }
+  const auto dir = std::filesystem::temp_directory_path() / ("clr_threads_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto one = run_cli(reference + (dir / "one.exr").string() + " --threads 1");
+  const auto env = run_cli(reference + (dir / "env.exr").string(), "CLRADIOSITY_THREADS=1");
+  const auto all = run_cli(reference + (dir / "all.exr").string());
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  ASSERT_EQ(env.exit_code, 0) << env.err;
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  const auto bytes = [&](const char* name) {
+    std::ifstream in(dir / name, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_FALSE(bytes("all.exr").empty());
+  EXPECT_EQ(bytes("one.exr"), bytes("all.exr"));
+  EXPECT_EQ(bytes("env.exr"), bytes("all.exr"));
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "common/error.hpp"
@@ -60,6 +62,36 @@ TEST(Preset, GivesABudgetOnlyWhereNoneWasGiven) {
   EXPECT_EQ(steps.steps, 7);
   EXPECT_EQ(minutes.minutes, 0.5);
   EXPECT_THROW(apply_preset("fast", none, unit_box(6), device_of(cl::DeviceType::Cpu)), InputError);
+}
+
+// `paper` is the paper's settings on every device (ISNR §4.3, §5.1; docs/presets.md), not a budget class.
+TEST(Preset, PaperTakesThePapersSettingsOnEveryDevice) {
+  for (const auto type : {cl::DeviceType::Cpu, cl::DeviceType::Gpu}) {
+    TrainConfig c;
+    const auto why = apply_preset(kPaperPreset, c, unit_box(6), device_of(type));
+    EXPECT_EQ(c.preset, kPaperPreset);
+    EXPECT_EQ(c.network["width"], 512) << "§4.3: width 512, whatever the device's default";
+    EXPECT_EQ(c.samples, 4) << "Table 1's N";
+    EXPECT_DOUBLE_EQ(c.network["adam"]["learning_rate"].get<double>(), 0.005);
+    EXPECT_DOUBLE_EQ(c.guide["adam"]["learning_rate"].get<double>(), 0.005);
+    EXPECT_EQ(c.batch, default_batch(device_of(cl::DeviceType::Gpu))) << "the batch a GPU takes by default";
+    const auto& grid = c.network["encoder"]["grid"];
+    EXPECT_EQ(grid["levels"], 16);
+    EXPECT_EQ(grid["log2_table"], 19);
+    // The finest level at the cited work's N_max: N_min · b^(L−1).
+    EXPECT_NEAR(grid["base_resolution"].get<double>() * std::pow(grid["growth"].get<double>(), 15.0), 2048, 1e-6);
+    EXPECT_GT(c.steps, 0) << "a step budget where none was given";
+    EXPECT_THAT(why.back(), ::testing::HasSubstr("no parameters")) << "says what the paper leaves open";
+    // The settings are valid as a whole (a config file with them is accepted).
+    EXPECT_NO_THROW(c.validate());
+  }
+  TrainConfig given;
+  given.steps = 300;
+  apply_preset(kPaperPreset, given, unit_box(6), device_of(cl::DeviceType::Cpu));
+  EXPECT_EQ(given.steps, 300);
+  EXPECT_EQ(std::count(budget_preset_names().begin(), budget_preset_names().end(), kPaperPreset), 0)
+      << "the main job's presets are budgets; the paper's settings would take hours on a CPU";
+  EXPECT_EQ(std::count(preset_names().begin(), preset_names().end(), kPaperPreset), 1);
 }
 
 }  // namespace

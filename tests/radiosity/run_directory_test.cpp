@@ -56,9 +56,44 @@ TEST_F(RunDirectoryTest, StartWritesTheSettingsAndTheLogHeader) {
   RunDirectory run = RunDirectory::create(dir);
   run.start(config, cbox());
   EXPECT_EQ(RunDirectory::load_config(dir).method, Method::Nr);
-  EXPECT_EQ(text(RunDirectory::log_path(dir)), "step,seconds,loss,lookups,non_finite,learning_rate,residual_power\n");
+  EXPECT_EQ(text(RunDirectory::log_path(dir)),
+            "step,seconds,loss,lookups,non_finite,learning_rate,residual_power,mape,mse,relmse\n");
   run.append_log({.step = 25, .seconds = 1.5, .loss = 0.25, .lookups = 0.5, .non_finite = 3});
-  EXPECT_THAT(text(RunDirectory::log_path(dir)), HasSubstr("\n25,1.500,0.25,0.500,3,0,0\n"));
+  EXPECT_THAT(text(RunDirectory::log_path(dir)), HasSubstr("\n25,1.500,0.25,0.500,3,0,0,,,\n"))
+      << "no evaluation: its columns empty";
+}
+
+// train --reference: the metrics as the shortest decimals that read back to the same doubles (what `compare
+// --json` prints), and the last row replaced when the run's last step gains its evaluation after it was logged.
+TEST_F(RunDirectoryTest, EvaluatedRowsCarryTheMetricsExactly) {
+  TrainConfig config;
+  config.method = Method::Nr;
+  RunDirectory run = RunDirectory::create(dir);
+  run.start(config, cbox());
+  run.append_log({.step = 5, .seconds = 1});
+  const image::Metrics m{.mape = 0.1, .mse = 1.0 / 3.0, .relmse = 2.5e-7};
+  run.replace_last_log_row({.step = 5, .seconds = 1, .evaluation = m});
+  EXPECT_EQ(text(RunDirectory::log_path(dir)),
+            "step,seconds,loss,lookups,non_finite,learning_rate,residual_power,mape,mse,relmse\n"
+            "5,1.000,0,0.000,0,0,0,0.1,0.3333333333333333,2.5e-07\n");
+}
+
+// A log written before the evaluation columns existed gains them (empty in its rows) when the run resumes, so that
+// every row has the header's fields.
+TEST_F(RunDirectoryTest, ResumeAddsTheEvaluationColumnsToAnOlderLog) {
+  {
+    RunDirectory run = RunDirectory::create(dir);
+    run.start(TrainConfig{}, cbox());
+  }
+  std::ofstream(RunDirectory::log_path(dir))
+      << "step,seconds,loss,lookups,non_finite,learning_rate,residual_power,guide_loss,guided_share\n"
+         "25,1.500,0.25,0.500,3,0.005,1,0.5,0.2500\n";
+  std::ofstream(RunDirectory::model_path(dir)) << "x";
+  const RunDirectory run = RunDirectory::resume(dir, cbox());
+  EXPECT_DOUBLE_EQ(run.seconds_trained(), 1.5);
+  EXPECT_EQ(text(RunDirectory::log_path(dir)),
+            "step,seconds,loss,lookups,non_finite,learning_rate,residual_power,guide_loss,guided_share,mape,mse,"
+            "relmse\n25,1.500,0.25,0.500,3,0.005,1,0.5,0.2500,,,\n");
 }
 
 TEST_F(RunDirectoryTest, IsnrRowsCarryTheGuideColumns) {
@@ -66,8 +101,8 @@ TEST_F(RunDirectoryTest, IsnrRowsCarryTheGuideColumns) {
   run.start(TrainConfig{}, cbox());
   run.append_log({.step = 1, .guide_loss = 0.5, .guided_share = 0.25});
   const std::string log = text(RunDirectory::log_path(dir));
-  EXPECT_THAT(log, HasSubstr(",guide_loss,guided_share\n"));
-  EXPECT_THAT(log, HasSubstr(",0.5,0.2500\n"));
+  EXPECT_THAT(log, HasSubstr(",guide_loss,guided_share,mape,mse,relmse\n"));
+  EXPECT_THAT(log, HasSubstr(",0.5,0.2500,,,\n"));
 }
 
 TEST_F(RunDirectoryTest, OneWriterAtATime) {

@@ -4,6 +4,7 @@
 // I-Module's lobes — the lobes decoded in each point's frame and the guided directions drawn on the device, read
 // back for the host's half (trace_incident: BSDF sampling and tracing), p̃ evaluated on the device — and the batch's
 // per-sample arrays uploaded, ready for the right-hand side and the guide's loss.
+#include <memory>
 #include <optional>
 
 #include "cl/async.hpp"
@@ -38,6 +39,20 @@ class IncidentSampling {
   // Uploads as non-blocking writes from pinned host memory (the pipelined step), instead of blocking writes.
   void set_pinned_uploads(bool pinned) { pinned_ = pinned; }
 
+  // The lagged guide (TrainConfig::guide_lag = 1, docs/design.md §2). Lobes then have three roles in a step: the
+  // learner's (decode: the I-Module's forward at this step, which its loss trains — vmf()), the sampler's (the
+  // lobes this step's directions were drawn from, so p̃'s), and the next step's (drawn early in this step and read
+  // back while the device works). Without the lag the learner's lobes are the sampler's.
+  void set_lagged(bool lagged);
+  // Lagged: the sampler's lobes of this step, when none were drawn ahead for it (a session's first step).
+  void decode_sampling(const cl::Buffer<float>& raw, const TrainingBatch& batch);
+  // Lagged: the lobes of step `step` (raw [points × kVmfRaw] at `next`'s points) decoded, a direction drawn for
+  // every sample, and their read back started without blocking; trace() of that step collects them.
+  void draw_ahead(const cl::Buffer<float>& raw, const TrainingBatch& next, std::uint64_t seed, std::uint64_t step);
+  bool drawn_ahead(std::uint64_t step) const { return ahead_ && ahead_->step == step; }
+  // Lagged, after upload() of step `step`: the lobes drawn ahead for step + 1 become its sampler's.
+  void advance(std::uint64_t step);
+
   // Device copies of the last batch's arrays (directions and bsdf_pdf only with lobes).
   cl::Buffer<float> incident_rows, weight, emitted, pdf, directions, bsdf_pdf;
   cl::Buffer<int> lookup;
@@ -62,9 +77,22 @@ class IncidentSampling {
       cl::upload(*ctx_, dst, host);
   }
 
+  void upload_normals(const TrainingBatch& batch);
+  VmfMixture& sampler() { return sampling_ ? *sampling_ : vmf_; }
+  // The directions drawn ahead, copied out of pinned memory (before the next draw reuses it) for their step.
+  void collect_ahead();
+
   cl::Context* ctx_;
   VmfMixture vmf_;
   bool pinned_ = false;
+  // Lagged only: the sampler's lobes and the next step's (swapped by advance()).
+  std::unique_ptr<VmfMixture> sampling_, next_;
+  struct Ahead {
+    std::uint64_t step;
+    bool collected;
+  };
+  std::optional<Ahead> ahead_;  // the step whose directions were drawn ahead
+  cl::PinnedDownload<float> ahead_read_;
   std::vector<float> normals_host_, uniforms_host_, guided_host_;
   std::size_t direct_points_ = 0;         // points in `direct`; 0 when the last batch had no delta lights
   std::optional<cl::Kernel> add_direct_;  // built on first use

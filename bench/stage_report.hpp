@@ -1,0 +1,23 @@
+#pragma once
+// A training step's host stages beside the device's busy time (issue: the host must keep up with a GPU), printed
+// by bench_guide and bench_pipeline. The host's stages come from Trainer::time_host_stages, the device's time from
+// its profiled commands (cl::Context::record_device_time): a step whose host work exceeds its device time is
+// host-bound on that machine, whatever the device.
+#include <cstdio>
+
+#include "radiosity/training_batch.hpp"
+
+namespace clr::bench {
+
+inline void print_stages(const char* label, const radiosity::HostStageTimes& t, double device_s, double wall_s) {
+  const double n = double(t.steps ? t.steps : 1), ms = 1e3 / n;
+  std::printf(
+      "  %-16s per step: wall %.2f ms | device busy %.2f ms | host work %.2f ms = points %.2f + incident loop %.2f "
+      "(thread-ms: BSDF %.2f, tracing %.2f, delta lights %.2f) + packing %.2f + uploads %.2f | waiting for the "
+      "guided directions %.2f ms | %s\n",
+      label, wall_s * ms, device_s * ms, t.host_work() * ms, t.points * ms, t.incident * ms, t.bsdf_cpu * ms,
+      t.tracing_cpu * ms, t.delta_lights_cpu * ms, t.packing * ms, t.uploads * ms, t.guide_read * ms,
+      t.host_work() > device_s ? "host-bound (host work > device busy)" : "device-bound (device busy >= host work)");
+}
+
+}  // namespace clr::bench
