@@ -6,6 +6,8 @@
 #include <string>
 #include <string_view>
 
+#include "common/terminal_text.hpp"
+
 namespace clr::cli {
 
 // `command` is the subcommand's name ("train", "render", …; "" for the main job). The exception's own text, plus
@@ -24,8 +26,6 @@ std::string path_message(const std::filesystem::filesystem_error& e);
 // Control characters and newlines escaped first (terminal_safe), and no cut inside a UTF-8 character.
 std::string bounded_line(std::string_view line);
 
-// `text` safe to print on a terminal as part of one line: newline, carriage return and tab as \n, \r, \t; other
-// C0 and C1 control characters, DEL and bytes that are not well-formed UTF-8 as \xNN; well-formed UTF-8 kept.
-std::string terminal_safe(std::string_view text);
+using clr::terminal_safe;  // common/terminal_text.hpp
 
 }  // namespace clr::cli

@@ -856,6 +856,24 @@ TEST(BadInputCorpusOutput, OutputFifoWithoutReaderEnds) {
   fs::remove_all(dir);
 }
 
+// Warnings echo the scene's values too, and are terminal-safe as errors are: an escape sequence in a property's
+// name (a Mitsuba 0.x scene only warns about it) is shown escaped, never sent to the terminal.
+TEST(BadInputCorpusOutput, WarningsAreTerminalSafe) {
+  const fs::path dir = fs::temp_directory_path() / ("clr_warning_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  write(dir / "scene.xml",
+        "<scene version=\"0.6.0\"><sensor type=\"perspective\"/><shape type=\"rectangle\">"
+        "<float name=\"odd&#27;[2Jname\" value=\"1\"/><emitter type=\"area\"/></shape></scene>");
+  const auto r = run_limited("reference '" + (dir / "scene.xml").string() + "' --spp 1 --width 4 --height 4 -o '" +
+                                 (dir / "out.exr").string() + "'",
+                             dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("unused property 'odd\\x1b[2Jname'"));
+  EXPECT_EQ(r.err.find('\x1b'), std::string::npos) << "a raw escape reached the terminal";
+  fs::remove_all(dir);
+}
+
 // PoCL's kernel cache as it is now, so that a test that changes XDG_CACHE_HOME does not recompile every kernel.
 std::string pocl_cache() {
   if (const char* dir = std::getenv("POCL_CACHE_DIR"); dir && *dir) return dir;

@@ -10,6 +10,7 @@
 
 #include "common/digest.hpp"
 #include "common/error.hpp"
+#include "common/terminal_text.hpp"
 #include "image/image.hpp"
 #include "scene/bsdfs.hpp"
 #include "scene/loader/plugin.hpp"
@@ -262,7 +263,8 @@ class Loader final : public loader::Context {
         if (std::filesystem::is_directory(folder, ec))
           search_folders_.push_back(folder);
         else
-          std::fprintf(stderr, "%s: warning: folder '%s' not found\n", c.where().c_str(), folder.string().c_str());
+          std::fprintf(stderr, "%s: warning: folder '%s' not found\n", clr::terminal_safe(c.where()).c_str(),
+                       clr::terminal_safe(folder.string()).c_str());
       } else if (t == "bsdf") {
         bsdf(c);
       } else if (t == "texture") {

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/terminal_text.hpp"
 #include "scene/loader/plugin.hpp"
 
 namespace clr::scene::loader {
@@ -46,8 +47,8 @@ void Props::check_all_used() const {
     if (used.count(name)) continue;
     if (n.source->version_major >= 2)
       n.fail("unused property '" + name + "' (misspelt, or not supported by this plugin)");
-    std::fprintf(stderr, "%s: warning: unused property '%s' ignored, as Mitsuba 0.x did\n", n.where().c_str(),
-                 name.c_str());
+    std::fprintf(stderr, "%s: warning: unused property '%s' ignored, as Mitsuba 0.x did\n",
+                 clr::terminal_safe(n.where()).c_str(), clr::terminal_safe(name).c_str());
     used.insert(name);
   }
 }
