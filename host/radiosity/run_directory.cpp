@@ -9,6 +9,7 @@
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <string_view>
 #include <system_error>
 
 #include "common/atomic_file.hpp"
@@ -96,9 +97,14 @@ double logged_seconds(const fs::path& log_file) {
 
 constexpr const char* kGuideBefore = "guide_before.";
 
-void write_model(const fs::path& dir, const TrainConfig& config, const nn::Network& network, const nn::Network* guide,
-                 const nn::Network* guide_before = nullptr) {
-  nn::Checkpoint c = network.checkpoint(std::to_string(config.seed));
+// The checkpoint's free-form state string carries the seed and its scene's digest ("1 scene 0123…"), so that a
+// model.clr copied out of its run, or into another one, is still checked against the scene it is given.
+constexpr std::string_view kSceneMark = " scene ";
+
+void write_model(const fs::path& dir, const TrainConfig& config, const scene::SceneFingerprint& scene,
+                 const nn::Network& network, const nn::Network* guide, const nn::Network* guide_before = nullptr) {
+  nn::Checkpoint c = network.checkpoint(std::to_string(config.seed) +
+                                        (scene.digest.empty() ? "" : std::string(kSceneMark) + scene.digest));
   if (guide) guide->add_tensors(c, "guide.");
   if (guide_before) guide_before->add_parameter_tensors(c, kGuideBefore);
   nn::write_checkpoint(RunDirectory::model_path(dir).string(), c);
@@ -214,7 +220,7 @@ void RunDirectory::replace_last_log_row(const LogRow& r) const {
 
 void RunDirectory::save_model(const nn::Network& network, const nn::Network* guide,
                               const nn::Network* guide_before) const {
-  write_model(dir_, config_, network, guide, guide_before);
+  write_model(dir_, config_, scene_, network, guide, guide_before);
 }
 
 void RunDirectory::write_snapshot(const fs::path& dir, const TrainConfig& config, const nn::Network& network,
@@ -222,7 +228,7 @@ void RunDirectory::write_snapshot(const fs::path& dir, const TrainConfig& config
   fs::create_directories(dir);
   write_scene(dir, scene_);
   write_record_atomically(config_path(dir), nlohmann::json(config).dump(2) + "\n", "run config");
-  write_model(dir, config, network, guide);
+  write_model(dir, config, scene_, network, guide);
 }
 
 std::vector<fs::path> RunDirectory::input_files(const fs::path& run) {
@@ -234,19 +240,30 @@ double RunDirectory::training_seconds(const fs::path& run) { return logged_secon
 
 void RunDirectory::require_scene(const fs::path& run, const scene::SceneFingerprint& scene) {
   const auto recorded = read_scene(run_folder(run));
-  // A model without its scene record cannot be matched to a scene: adopting it under the scene given now would
-  // answer with another scene's box and inputs. (A folder without a model is not a run, and a model that is no
-  // regular file is no checkpoint: reading it fails next, with its own message.)
-  if (!recorded) {
-    if (const fs::path model = fs::is_directory(run) ? model_path(run) : run; fs::is_regular_file(model))
-      throw InputError(model.string() + ": the model has no scene record (" + scene_path(run_folder(run)).string() +
-                       "): the scene it was trained on cannot be checked; train it again");
-    return;
-  }
-  if (*recorded == scene) return;
-  throw InputError(run.string() + " was trained on " + recorded->scene.string() + " (scene digest " + recorded->digest +
-                   "); " + scene.scene.string() + " is another scene (digest " + scene.digest + ": " +
-                   scene::difference(*recorded, scene) + ")");
+  if (recorded && !(*recorded == scene))
+    throw InputError(run.string() + " was trained on " + recorded->scene.string() + " (scene digest " +
+                     recorded->digest + "); " + scene.scene.string() + " is another scene (digest " + scene.digest +
+                     ": " + scene::difference(*recorded, scene) + ")");
+  // The model's own record of its scene, where its checkpoint carries one: a model.clr copied into another run
+  // matches that run's scene.json but not its own scene. (A model that is no regular file, or no checkpoint, is
+  // left to the checkpoint reader, whose message names the fault.)
+  const fs::path model = fs::is_directory(run) ? model_path(run) : run;
+  std::optional<std::string> carried;
+  if (fs::is_regular_file(model)) try {
+      const std::string state = nn::read_checkpoint(model.string()).rng_state;
+      if (const auto at = state.find(kSceneMark); at != std::string::npos)
+        carried = state.substr(at + kSceneMark.size());
+    } catch (const InputError&) {
+    }
+  if (carried && *carried != scene.digest)
+    throw InputError(model.string() + " was trained on another scene (digest " + *carried + ") than " +
+                     scene.scene.string() + " (digest " + scene.digest + ")" +
+                     (recorded ? ", though the scene record beside it matches: it was copied from another run" : ""));
+  // A model with no record of its scene at all cannot be matched to one: adopting it under the scene given now
+  // would answer with another scene's box and inputs.
+  if (!recorded && !carried && fs::is_regular_file(model))
+    throw InputError(model.string() + ": the model has no scene record (" + scene_path(run_folder(run)).string() +
+                     "): the scene it was trained on cannot be checked; train it again");
 }
 
 std::unique_ptr<nn::Network> RunDirectory::load_radiance(cl::Context& ctx, const fs::path& run) {

@@ -10,6 +10,7 @@
 
 #include "common/digest.hpp"
 #include "common/error.hpp"
+#include "nn/checkpoint.hpp"
 #include "scene/fingerprint.hpp"
 
 namespace clr::radiosity {
@@ -201,6 +202,30 @@ TEST_F(RunDirectoryTest, AModelWithoutASceneRecordIsRefused) {
   fs::create_directories(loose);
   fs::copy_file(RunDirectory::model_path(dir), loose / "renamed.clr");
   EXPECT_THROW(RunDirectory::require_scene(loose / "renamed.clr", cbox()), InputError) << "a model file out of its run";
+  fs::remove_all(loose);
+}
+
+// A checkpoint carries its scene's digest: copied into another run (whose record matches another scene) it is
+// refused; copied out of its run, alone, it is still checked, and read where the scene is its own.
+TEST_F(RunDirectoryTest, AModelCarriesItsScene) {
+  const auto other = scene_of(scenes / "y", {{"scene.xml", "<scene/>"}, {"meshes/a.obj", "v 0 0 1"}});
+  nn::Checkpoint c;
+  c.config_json = "{}";
+  c.rng_state = "1 scene " + cbox().digest;  // as RunDirectory writes it
+  c.tensors.emplace_back("mlp.params", std::vector<float>(4, 0.5f));
+  RunDirectory::create(dir).start(TrainConfig{}, other);
+  nn::write_checkpoint(RunDirectory::model_path(dir).string(), c);
+  try {
+    RunDirectory::require_scene(dir, other);
+    ADD_FAILURE() << "a model copied into another scene's run was adopted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("copied from another run"));
+  }
+  const fs::path loose = dir.parent_path() / ("loose_" + dir.filename().string());
+  fs::create_directories(loose);
+  fs::copy_file(RunDirectory::model_path(dir), loose / "model.clr");
+  EXPECT_NO_THROW(RunDirectory::require_scene(loose / "model.clr", cbox())) << "its own scene";
+  EXPECT_THROW(RunDirectory::require_scene(loose / "model.clr", other), InputError);
   fs::remove_all(loose);
 }
 
