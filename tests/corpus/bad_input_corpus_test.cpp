@@ -864,12 +864,12 @@ TEST(BadInputCorpusOutput, WarningsAreTerminalSafe) {
   fs::create_directories(dir);
   write(dir / "scene.xml",
         "<scene version=\"0.6.0\"><sensor type=\"perspective\"/><shape type=\"rectangle\">"
-        "<float name=\"odd&#27;[2Jname\" value=\"1\"/><emitter type=\"area\"/></shape></scene>");
+        "<float name=\"odd&#27;[1mname\" value=\"1\"/><emitter type=\"area\"/></shape></scene>");
   const auto r = run_limited("reference '" + (dir / "scene.xml").string() + "' --spp 1 --width 4 --height 4 -o '" +
                                  (dir / "out.exr").string() + "'",
                              dir);
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_THAT(r.err, HasSubstr("unused property 'odd\\x1b[2Jname'"));
+  EXPECT_THAT(r.err, HasSubstr("unused property 'odd\\x1b[1mname'"));
   EXPECT_EQ(r.err.find('\x1b'), std::string::npos) << "a raw escape reached the terminal";
   fs::remove_all(dir);
 }
