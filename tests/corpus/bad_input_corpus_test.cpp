@@ -269,6 +269,7 @@ const std::vector<Case>& cases() {
       generated_case("ply_index_crease.xml", "index out of range"),
       generated_case("ply_two_vertex_elements.ply.xml", "PLY element 'vertex' is declared twice"),
       generated_case("ply_two_x.ply.xml", "PLY property 'x' of element 'vertex' is declared twice"),
+      generated_case("ply_fraction_index.ply.xml", "PLY face index 1.500000 is not a whole number"),
       generated_case("index.serialized.xml", "triangle vertex index 7 is out of range"),
       // A valid triangle followed by 3 GiB of zeros in its zlib stream (3 MB on disk): read as the triangle it is,
       // never inflated whole (beyond the 4 GiB address-space limit of these rows).
@@ -523,7 +524,11 @@ void generate(const fs::path& t) {
           "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float x\nproperty float y\n"
           "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
           "0 0 0 0\n1 1 0 0\n0 0 1 0\n3 0 1 2\n");
-    for (const char* f : {"ply_two_vertex_elements.ply", "ply_two_x.ply"})
+    write(t / "ply_fraction_index.ply",
+          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+          "element face 1\nproperty list uchar float vertex_indices\nend_header\n" +
+              ascii_triangle + "3 0 1.5 2\n");
+    for (const char* f : {"ply_two_vertex_elements.ply", "ply_two_x.ply", "ply_fraction_index.ply"})
       write(t / (std::string(f) + ".xml"), mesh_scene("ply", t / f));
   }
 

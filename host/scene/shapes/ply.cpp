@@ -5,6 +5,7 @@
 // Other elements are skipped.
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -207,8 +208,12 @@ Mesh load_ply(const std::filesystem::path& path) {
         list.resize(std::size_t(count));
         for (auto& x : list) x = reader.read(prop.type);
         if (face && (prop.name == "vertex_indices" || prop.name == "vertex_index")) {
-          for (double x : list)
+          for (double x : list) {
             if (!(x >= 0 && x < 4294967295.0)) throw InputError(path.string() + ": PLY face index out of range");
+            // An index stored as a float or written with a fraction would be cut to another vertex's index.
+            if (x != std::floor(x))
+              throw InputError(path.string() + ": PLY face index " + std::to_string(x) + " is not a whole number");
+          }
           for (std::size_t k = 2; k < list.size(); ++k)
             m.triangles.push_back({std::uint32_t(list[0]), std::uint32_t(list[k - 1]), std::uint32_t(list[k])});
         }
