@@ -5,6 +5,7 @@
 
 #include "cl/error.hpp"
 #include "cl/no_platform.hpp"
+#include "common/stop_signal.hpp"
 
 namespace clr::cl {
 
@@ -20,6 +21,7 @@ Context::Context(DeviceInfo device) : device_(std::move(device)) {
   // Profiling is always on: benchmarks read kernel times from events, and its cost is negligible.
   queue_ = QueueHandle(clCreateCommandQueue(context_.get(), device_.device, CL_QUEUE_PROFILING_ENABLE, &status));
   CLR_CL_CHECK(status);
+  reclaim_signals();
 }
 
 Context::~Context() {
@@ -40,8 +42,10 @@ const Program& Context::program(const std::vector<std::string>& files, const std
       slot = std::make_unique<Program>(*this, files, options);
     } catch (...) {
       programs_.erase(key);
+      reclaim_signals();
       throw;
     }
+    reclaim_signals();  // the compiler may have installed its handlers
     ++programs_built_;
   }
   return *slot;

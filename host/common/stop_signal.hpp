@@ -7,6 +7,10 @@ namespace clr {
 
 void install_stop_handlers();
 bool stop_requested();
+// Takes SIGHUP, SIGQUIT and SIGUSR1 back from a library that caught them: LLVM (loaded by PoCL to build kernels)
+// catches SIGUSR1 and does nothing, and swallows one SIGQUIT. They go to the stop handlers where those are
+// installed, else to their default actions. Called once the OpenCL runtime has loaded and after each kernel build.
+void reclaim_signals();
 // The signal that asked for the stop (0: none, or request_stop()).
 int stop_signal();
 void request_stop();  // what the handlers do; also for tests

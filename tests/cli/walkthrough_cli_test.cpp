@@ -187,5 +187,38 @@ TEST_F(WalkthroughCli, UnusableReferenceAndBreakEvenInputsAreRefusedFirst) {
   }
 }
 
+// SIGUSR1 and SIGQUIT are not swallowed by the compiler the OpenCL runtime loads (LLVM catches SIGUSR1 and does
+// nothing): a render, which has no safe point to stop at, ends by the signal's default action.
+TEST_F(WalkthroughCli, SignalsAreNotSwallowedByTheRuntime) {
+  for (const int sig : {SIGUSR1, SIGQUIT}) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+      const int null = ::open("/dev/null", O_WRONLY);
+      dup2(null, 1);
+      dup2(null, 2);
+      const std::string out = (dir / "long.exr").string();
+      execl(CLR_CLI_PATH, "clradiosity", "render", kBox.c_str(), "--model", run.c_str(), "--spp", "65536", "--width",
+            "256", "--height", "256", "-o", out.c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    ASSERT_GT(pid, 0);
+    std::this_thread::sleep_for(std::chrono::seconds(4));  // the runtime loaded, kernels built, rendering
+    ::kill(pid, sig);
+    int status = 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    pid_t done = 0;
+    while ((done = waitpid(pid, &status, WNOHANG)) == 0 && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (done == 0) {
+      ::kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      ADD_FAILURE() << "signal " << sig << " was swallowed: the render went on";
+      continue;
+    }
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << "signal " << sig;
+    EXPECT_FALSE(fs::exists(dir / "long.exr"));
+  }
+}
+
 }  // namespace
 }  // namespace clr::test
