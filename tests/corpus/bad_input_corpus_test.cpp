@@ -270,6 +270,9 @@ const std::vector<Case>& cases() {
       generated_case("ply_two_vertex_elements.ply.xml", "PLY element 'vertex' is declared twice"),
       generated_case("ply_two_x.ply.xml", "PLY property 'x' of element 'vertex' is declared twice"),
       generated_case("ply_fraction_index.ply.xml", "PLY face index 1.500000 is not a whole number"),
+      // Parsing is linear: creased normals of a fan of 500 000 coplanar triangles about one vertex (each corner at
+      // the centre compared with every other was 2.5e11 comparisons).
+      generated_case("fan_crease.xml", "", 0),
       generated_case("index.serialized.xml", "triangle vertex index 7 is out of range"),
       // A valid triangle followed by 3 GiB of zeros in its zlib stream (3 MB on disk): read as the triangle it is,
       // never inflated whole (beyond the 4 GiB address-space limit of these rows).
@@ -506,6 +509,26 @@ void generate(const fs::path& t) {
   }
   for (const char* f : {"billions_binary.ply", "truncated_binary.ply", "huge_list.ply", "nan_binary.ply"})
     write(t / (std::string(f) + ".xml"), mesh_scene("ply", t / f));
+  {
+    constexpr std::uint32_t kFan = 500000;
+    std::string fan = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(kFan + 2) +
+                      "\nproperty float x\nproperty float y\nproperty float z\nelement face " + std::to_string(kFan) +
+                      "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const float v : {0.0f, 0.0f, 0.0f}) put(fan, v);
+    for (std::uint32_t k = 0; k <= kFan; ++k) {
+      const double a = 6.283185307179586 * double(k) / double(kFan + 1);
+      for (const float v : {float(std::cos(a)), float(std::sin(a)), 0.0f}) put(fan, v);
+    }
+    for (std::uint32_t k = 0; k < kFan; ++k) {
+      fan.push_back(char(3));
+      for (const std::int32_t i : {0, std::int32_t(k + 1), std::int32_t(k + 2)}) put(fan, i);
+    }
+    write(t / "fan.ply", fan);
+    write(t / "fan_crease.xml",
+          scene_around("<shape type=\"ply\"><string name=\"filename\" value=\"" + (t / "fan.ply").string() +
+                       "\"/><float name=\"max_smooth_angle\" value=\"30\"/>"
+                       "<emitter type=\"area\"/></shape>"));
+  }
   // A face index beyond the vertices under smoothing (the normals are computed from the indices) and creasing.
   for (const auto& [name, option] : {std::pair<std::string, std::string>{"smooth", ""},
                                      {"crease", "<float name=\"max_smooth_angle\" value=\"30\"/>"}})

@@ -84,12 +84,23 @@ void Mesh::compute_crease_normals(float max_angle_degrees) {
       corner_weight[f][i] = std::acos(std::clamp(glm::dot(e1, e2) / (glm::length(e1) * glm::length(e2)), -1.0f, 1.0f));
     }
   }
-  // Corners grouped by exact position (vertices a file duplicated for their uvs meet here again).
-  std::map<std::tuple<float, float, float>, std::vector<std::uint32_t>> at;  // position → corners (3f + i)
+  // Corners grouped by exact position (vertices a file duplicated for their uvs meet here again), and within a
+  // position by exact face normal, their angles summed: every corner is then compared with the distinct normals
+  // around it, not with every corner there, so a fan of many coplanar faces about one vertex costs its size, not
+  // its square.
+  using Key = std::tuple<float, float, float>;
+  struct Normals {
+    std::vector<std::pair<Vec3, float>> weighted;  // distinct face normal → summed corner angle
+    std::map<Key, std::size_t> index;              // face normal → its place in `weighted`
+  };
+  std::map<Key, Normals> at;  // position → the normals of the faces meeting there
   for (std::size_t f = 0; f < nt; ++f)
     for (int i = 0; i < 3; ++i) {
       const Vec3 q = positions[triangles[f][i]];
-      at[{q.x, q.y, q.z}].push_back(std::uint32_t(3 * f + std::size_t(i)));
+      Normals& here = at[{q.x, q.y, q.z}];
+      const auto [slot, added] = here.index.try_emplace({face[f].x, face[f].y, face[f].z}, here.weighted.size());
+      if (added) here.weighted.emplace_back(face[f], 0.0f);
+      here.weighted[slot->second].second += corner_weight[f][i];
     }
   const float cos_max = std::cos(max_angle_degrees * kPi / 180.0f);
   Mesh out;
@@ -112,8 +123,8 @@ void Mesh::compute_crease_normals(float max_angle_degrees) {
         }
       out.triangles[f][i] = c;
       Vec3 sum(0.0f);
-      for (const std::uint32_t o : at[{positions[v].x, positions[v].y, positions[v].z}])
-        if (glm::dot(face[o / 3], face[f]) >= cos_max) sum += face[o / 3] * corner_weight[o / 3][int(o % 3)];
+      for (const auto& [normal, weight] : at[{positions[v].x, positions[v].y, positions[v].z}].weighted)
+        if (glm::dot(normal, face[f]) >= cos_max) sum += normal * weight;
       const float len = glm::length(sum);
       out.normals[c] = len > 0 ? sum / len : (glm::length(face[f]) > 0 ? face[f] : Vec3(0, 0, 1));
     }
