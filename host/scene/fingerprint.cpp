@@ -7,22 +7,26 @@
 namespace clr::scene {
 namespace fs = std::filesystem;
 
+std::string files_digest(const std::vector<SceneFingerprint::File>& files) {
+  Digest all;
+  // The scene file is named by its position: a renamed scene.xml with the same content is the same scene.
+  for (std::size_t i = 0; i < files.size(); ++i)
+    all.add(i == 0 ? "" : files[i].name).add("\n").add(files[i].digest).add("\n");
+  return all.hex();
+}
+
 SceneFingerprint fingerprint(const Scene& scene) {
   SceneFingerprint f;
   if (scene.files.empty()) return f;
   f.scene = scene.files.front();
   const fs::path folder = fs::absolute(f.scene).lexically_normal().parent_path();
-  Digest all;
   for (std::size_t i = 0; i < scene.files.size(); ++i) {
     const fs::path absolute = fs::absolute(scene.files[i]).lexically_normal();
     const fs::path relative = absolute.lexically_relative(folder);
     const bool inside = !relative.empty() && *relative.begin() != "..";
-    SceneFingerprint::File entry{(inside ? relative : absolute).generic_string(), scene.file_digests.at(i)};
-    // The scene file is named by its position: a renamed scene.xml with the same content is the same scene.
-    all.add(i == 0 ? "" : entry.name).add("\n").add(entry.digest).add("\n");
-    f.files.push_back(std::move(entry));
+    f.files.push_back({(inside ? relative : absolute).generic_string(), scene.file_digests.at(i)});
   }
-  f.digest = all.hex();
+  f.digest = files_digest(f.files);
   return f;
 }
 
