@@ -180,6 +180,8 @@ TrainConfig RunDirectory::load_config(const fs::path& run) {
   const fs::path file = config_path(run);
   nlohmann::json saved = read_json_file(file, "run config");
   if (saved.is_object() && !saved.contains("method")) saved["method"] = to_string(Method::Nr);
+  // Runs written before the lagged guide became the default drew their guided directions unlagged.
+  if (saved.is_object() && !saved.contains("guide_lag")) saved["guide_lag"] = 0;
   try {
     return parse_train_config(saved);
   } catch (const InputError& e) {
