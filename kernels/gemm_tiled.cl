@@ -13,6 +13,11 @@
 // Every edge (rows, columns, the k tail) is bounds-checked with zero fill; b_padded is not needed and ignored.
 // Sizes are -D defines (the host's candidates stay within NVIDIA's 48 KiB of local memory and 1024 work-items);
 // the group is fixed at compile time, so the launch must be (BN/WN) × (BM/WM).
+//
+// VEC 4 (WM and WN multiples of 4): a work-item's rows and columns come in runs of 4 (run c of rows at
+// c·4·LY + 4·ly), so each k step reads its A and B values from local memory as WM/4 + WN/4 float4 loads instead of
+// WM + WN scalar ones — the GPU's shared-memory bandwidth, not its FMA rate, limits the scalar form at 8 × 8
+// (16 loads for 64 FMAs). The A panel's rows are padded by 4 words to keep every run 16-byte aligned.
 #ifndef BM
 #define BM 64
 #endif
@@ -28,20 +33,42 @@
 #ifndef WN
 #define WN 4
 #endif
+#ifndef VEC
+#define VEC 1
+#endif
 #define LX (BN / WN)
 #define LY (BM / WM)
 #define THREADS (LX * LY)
+#if VEC == 4
+// Row i (column j) of a work-item's share of the tile: runs of 4 consecutive rows, LY·4 apart.
+#define ROW_OF(i) (((i) / 4) * (LY * 4) + ly * 4 + (i) % 4)
+#define COL_OF(j) (((j) / 4) * (LX * 4) + lx * 4 + (j) % 4)
+// Four words of padding per A row keep the float4 runs aligned; with BK = 8 the panel's writes (k fastest across
+// work-items) still fall into distinct banks (k·4 + row spans 32 words).
+#define AS_LD (BM + 4)
+#else
+#define ROW_OF(i) (ly + (i)*LY)
+#define COL_OF(j) (lx + (j)*LX)
 // One word of padding per A row: the panel is written with k varying fastest across work-items (a row-major A),
 // and without it those writes, BM words apart, would all fall into one local memory bank.
 #define AS_LD (BM + 1)
+#endif
 
 __kernel __attribute__((reqd_work_group_size(LX, LY, 1))) void gemm_tiled(
     uint M, uint N, uint K, float alpha, __global const float* A, uint a_off, uint a_rs, uint a_cs,
     __global const float* B, uint b_off, uint ldb, float beta, __global float* C, uint c_off, uint ldc, uint k_slice,
     uint c_slice, __global const float* bias, uint bias_off, uint use_bias, uint act, uint b_padded) {
   (void)b_padded;
+#if VEC == 4
+  // float4 arrays for aligned vector reads; the panels are written through float views.
+  __local float4 As4[BK * AS_LD / 4];
+  __local float4 Bs4[BK * BN / 4];
+  __local float* As = (__local float*)As4;
+  __local float* Bs = (__local float*)Bs4;
+#else
   __local float As[BK * AS_LD];  // As[k][m]: k-major, so a work-item's WM rows at one k are one local row
   __local float Bs[BK * BN];     // Bs[k][n]
+#endif
   const uint lx = (uint)get_local_id(0), ly = (uint)get_local_id(1);
   const uint lid = ly * LX + lx;
   const uint tiles_m = (M + BM - 1) / BM;
@@ -77,10 +104,29 @@ __kernel __attribute__((reqd_work_group_size(LX, LY, 1))) void gemm_tiled(
 #pragma unroll
     for (uint kk = 0; kk < BK; ++kk) {
       float a[WM], b[WN];
+#if VEC == 4
 #pragma unroll
-      for (uint i = 0; i < WM; ++i) a[i] = As[kk * AS_LD + ly + i * LY];
+      for (uint c = 0; c < WM / 4; ++c) {
+        const float4 v = As4[(kk * AS_LD + c * LY * 4) / 4 + ly];
+        a[4 * c] = v.x;
+        a[4 * c + 1] = v.y;
+        a[4 * c + 2] = v.z;
+        a[4 * c + 3] = v.w;
+      }
 #pragma unroll
-      for (uint j = 0; j < WN; ++j) b[j] = Bs[kk * BN + lx + j * LX];
+      for (uint c = 0; c < WN / 4; ++c) {
+        const float4 v = Bs4[(kk * BN + c * LX * 4) / 4 + lx];
+        b[4 * c] = v.x;
+        b[4 * c + 1] = v.y;
+        b[4 * c + 2] = v.z;
+        b[4 * c + 3] = v.w;
+      }
+#else
+#pragma unroll
+      for (uint i = 0; i < WM; ++i) a[i] = As[kk * AS_LD + ROW_OF(i)];
+#pragma unroll
+      for (uint j = 0; j < WN; ++j) b[j] = Bs[kk * BN + COL_OF(j)];
+#endif
 #pragma unroll
       for (uint i = 0; i < WM; ++i)
 #pragma unroll
@@ -92,10 +138,10 @@ __kernel __attribute__((reqd_work_group_size(LX, LY, 1))) void gemm_tiled(
 
 #pragma unroll
   for (uint i = 0; i < WM; ++i) {
-    const uint row = m0 + ly + i * LY;
+    const uint row = m0 + ROW_OF(i);
 #pragma unroll
     for (uint j = 0; j < WN; ++j) {
-      const uint col = n0 + lx + j * LX;
+      const uint col = n0 + COL_OF(j);
       if (row < M && col < N) {
         __global float* cp = Cs + row * ldc + col;
         float r = alpha * acc[i][j];

@@ -15,6 +15,7 @@
 #include <CL/cl.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <span>
 #include <vector>
@@ -42,7 +43,9 @@ class PinnedMemory {
   void wait() {
     if (last_) {
       const cl_event e = last_.get();
+      const auto start = std::chrono::steady_clock::now();
       CLR_CL_CHECK(clWaitForEvents(1, &e));
+      ctx_->add_wait(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       last_ = EventHandle();
     }
   }
@@ -57,6 +60,7 @@ class PinnedMemory {
         MemHandle(clCreateBuffer(ctx.get(), access | CL_MEM_ALLOC_HOST_PTR, capacity_ * sizeof(T), nullptr, &status));
     CLR_CL_CHECK(status);
     queue_ = ctx.queue();
+    ctx_ = &ctx;
     void* p =
         clEnqueueMapBuffer(queue_, pinned_.get(), CL_TRUE, map, 0, capacity_ * sizeof(T), 0, nullptr, nullptr, &status);
     CLR_CL_CHECK(status);
@@ -76,6 +80,7 @@ class PinnedMemory {
 
   MemHandle pinned_;
   cl_command_queue queue_ = nullptr;
+  const Context* ctx_ = nullptr;  // where the time blocked in wait() is counted
   T* mapped_ = nullptr;
   std::size_t capacity_ = 0;
   EventHandle last_;

@@ -1,12 +1,18 @@
 #include "cl/context.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "cl/error.hpp"
+#include "cl/no_platform.hpp"
+#include "common/stop_signal.hpp"
 
 namespace clr::cl {
 
 Context::Context(DeviceInfo device) : device_(std::move(device)) {
+  // Found before any work: each kernel build would otherwise fail with an empty build log.
+  if (const std::string cause = pocl_cache_cause(device_.platform_name); !cause.empty())
+    throw std::runtime_error(cause);
   cl_int status = CL_SUCCESS;
   const cl_context_properties props[] = {CL_CONTEXT_PLATFORM, reinterpret_cast<cl_context_properties>(device_.platform),
                                          0};
@@ -15,6 +21,7 @@ Context::Context(DeviceInfo device) : device_(std::move(device)) {
   // Profiling is always on: benchmarks read kernel times from events, and its cost is negligible.
   queue_ = QueueHandle(clCreateCommandQueue(context_.get(), device_.device, CL_QUEUE_PROFILING_ENABLE, &status));
   CLR_CL_CHECK(status);
+  reclaim_signals();
 }
 
 Context::~Context() {
@@ -35,8 +42,10 @@ const Program& Context::program(const std::vector<std::string>& files, const std
       slot = std::make_unique<Program>(*this, files, options);
     } catch (...) {
       programs_.erase(key);
+      reclaim_signals();
       throw;
     }
+    reclaim_signals();  // the compiler may have installed its handlers
     ++programs_built_;
   }
   return *slot;

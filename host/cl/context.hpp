@@ -53,6 +53,10 @@ class Context {
   // Keeps an event the caller owns (retained here).
   void record(cl_event event) const;
   double take_device_seconds();
+  // Seconds the host spent blocked until the device freed pinned memory for reuse (cl/async.hpp): a device behind the
+  // host. Only accumulates; readers take differences.
+  void add_wait(double seconds) const { waited_s_ += seconds; }
+  double waited_seconds() const { return waited_s_; }
 
  private:
   DeviceInfo device_;
@@ -67,6 +71,7 @@ class Context {
     cl_event command = nullptr;
   };
   bool recording_ = false;
+  mutable double waited_s_ = 0;
   mutable std::deque<Timed> timed_;  // a deque: a slot's address stays valid while later ones are added
 };
 

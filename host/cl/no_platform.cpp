@@ -69,4 +69,13 @@ std::string no_platform_cause() {
          ") started none (a driver library missing or failing; OCL_ICD_DEBUG=7 shows the loader's steps)";
 }
 
+std::string pocl_cache_cause(const std::string& platform_name) {
+  if (platform_name.find("Portable Computing Language") == std::string::npos) return "";
+  if (const char* off = std::getenv("POCL_KERNEL_CACHE"); off && std::string(off) == "0") return "";
+  const std::string problem = pocl_cache_problem();
+  if (problem.empty()) return "";
+  return "PoCL's kernel cache folder is not usable (" + problem +
+         "): PoCL cannot build kernels; point POCL_CACHE_DIR (or XDG_CACHE_HOME) at a writable folder";
+}
+
 }  // namespace clr::cl

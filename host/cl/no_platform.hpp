@@ -9,4 +9,9 @@ namespace clr::cl {
 // "…: <cause>; <what to do>", naming the folder or variable at fault.
 std::string no_platform_cause();
 
+// "" unless `platform_name` is PoCL's and its kernel cache folder (POCL_CACHE_DIR, else XDG_CACHE_HOME/pocl, else
+// ~/.cache/pocl) cannot be made or written; then the line that says so. PoCL registers its platform even where the
+// folder is a file, and only fails each kernel build later with an empty build log.
+std::string pocl_cache_cause(const std::string& platform_name);
+
 }  // namespace clr::cl

@@ -6,6 +6,8 @@
 #include <string>
 #include <string_view>
 
+#include "common/terminal_text.hpp"
+
 namespace clr::cli {
 
 // `command` is the subcommand's name ("train", "render", …; "" for the main job). The exception's own text, plus
@@ -21,6 +23,9 @@ std::string path_message(const std::filesystem::filesystem_error& e);
 // Any stderr line, bounded: a word (a path, a value, an option's argument) longer than 256 bytes keeps its start
 // and end around "…(N bytes)…", and the line at most 4 KiB — a 100 KB argument is never echoed whole, wherever a
 // message quotes it.
+// Control characters and newlines escaped first (terminal_safe), and no cut inside a UTF-8 character.
 std::string bounded_line(std::string_view line);
+
+using clr::terminal_safe;  // common/terminal_text.hpp
 
 }  // namespace clr::cli

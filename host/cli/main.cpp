@@ -1,9 +1,13 @@
 // clradiosity: exit 0 on success, 1 on a runtime failure, 2 on bad input or usage, always with one line on stderr.
 // Under mpirun a failing rank names itself in that line and ends the whole job with its exit code.
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "cl/error.hpp"
 #include "cli/command.hpp"
@@ -198,6 +202,19 @@ int run(int argc, char** argv) {
     }
     std::cerr << "clradiosity: error: " << rank_prefix() << clr::cli::bounded_line(clr::cli::path_message(e)) << "\n";
     return 2;
+  } catch (const nlohmann::json::type_error& e) {
+    // Every JSON the program reads is checked where it is read; what reaches here is a record or output that
+    // cannot be written: JSON holds UTF-8 only, and a file or folder name given may be any bytes (type_error 316).
+    if (e.id != 316) {
+      std::cerr << "clradiosity: failed: " << rank_prefix() << clr::cli::bounded_line(e.what()) << "\n";
+      return 1;
+    }
+    std::cerr << "clradiosity: error: " << rank_prefix()
+              << clr::cli::bounded_line(std::string("a file or folder name given is not valid UTF-8, which the run's "
+                                                    "JSON records cannot hold: rename it (") +
+                                        e.what() + ")")
+              << "\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "clradiosity: failed: " << rank_prefix()
               << clr::cli::bounded_line(clr::cli::failure_message(e, command)) << "\n";
@@ -211,6 +228,23 @@ int main(int argc, char** argv) {
   // MPI starts before the OpenCL runtime's threads do, and only under mpirun (Communicator::world).
   auto& ranks = clr::distributed::Communicator::world();
   if (ranks.rank() != 0) clr::Progress::silence_process();
-  const int code = run(argc, argv);
+  // A closed pipe on stdout (`clradiosity devices | head -1`) would end the process by SIGPIPE without a word (exit
+  // 141); ignored, a write fails instead, and the process says so in its one line.
+  std::signal(SIGPIPE, SIG_IGN);
+  // A library loaded with the runtimes catches SIGHUP, SIGQUIT and SIGUSR1 and then does nothing: each was silently
+  // swallowed. Their default actions come back here; the stop handlers (common/stop_signal.hpp) take them over
+  // wherever work stops at a safe point. Under mpirun the MPI runtime's own handling is left alone.
+  if (!ranks.distributed())
+    for (const int sig : {SIGHUP, SIGQUIT, SIGUSR1}) std::signal(sig, SIG_DFL);
+  int code = run(argc, argv);
+  std::cout.flush();
+  if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout) {
+    const int err = errno;
+    std::cerr << "clradiosity: failed: writing standard output: "
+              << (err == EPIPE || err == 0 ? std::string("the pipe or file was closed by its reader")
+                                           : std::string(std::strerror(err)))
+              << "\n";
+    if (code == 0) code = 1;
+  }
   return ranks.finish(code, failed_together);
 }

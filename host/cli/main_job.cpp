@@ -9,6 +9,7 @@
 #include "cl/context.hpp"
 #include "cli/command.hpp"
 #include "cli/data_files.hpp"
+#include "common/error.hpp"
 #include "common/progress.hpp"
 #include "common/run_lock.hpp"
 #include "common/stop_signal.hpp"
@@ -46,6 +47,18 @@ int run_main_job(double minutes, const std::string& preset) {
     std::cerr << "clradiosity: training " << scene_path.string() << " for " << config.minutes << " min on "
               << ctx.device().describe() << "\n";
 
+  // The reference depends only on the scene and these settings, so it is rendered once and reused; one that no
+  // longer fits (another size, unreadable) is found before training, not after it, and made again.
+  const fs::path ref_path = out / "cornell-box-reference-1024spp.exr";
+  if (fs::exists(ref_path)) {
+    try {
+      const auto kept = image::read_exr(ref_path);
+      image::require_matching_size(kept.width, kept.height, scene.camera.width, scene.camera.height);
+    } catch (const InputError&) {
+      fs::remove(ref_path);
+    }
+  }
+
   fs::remove_all(run);
   radiosity::Trainer trainer(ctx, geometry, config, run, false);
   trainer.run();
@@ -62,8 +75,6 @@ int run_main_job(double minutes, const std::string& preset) {
       exr_metadata(digest, settings.spp, settings.seed, seconds, static_cast<long long>(trainer.steps_done())));
   image::write_png(out / "cornell-box.png", img);
 
-  // The reference depends only on the scene and these settings, so it is rendered once and reused.
-  const fs::path ref_path = out / "cornell-box-reference-1024spp.exr";
   if (!fs::exists(ref_path)) {
     reference::RenderOptions ref;
     ref.spp = 1024;

@@ -47,6 +47,22 @@ int render_walkthrough(const Options& opt, const scene::Scene& scene, const geom
   const auto cameras = opt.path.empty() ? scene::orbit(scene.camera, scene::geometry_centre(scene.shapes), opt.orbit)
                                         : scene::read_camera_path(opt.path, scene.camera);
   if (!opt.video.empty()) walkthrough::require_video_writer(opt.video);
+  // What the break-even check needs is checked before any frame is rendered: the run's training time (a model
+  // without a log, or a log without a training row, has none, and every frame count would be meaningless) and a
+  // frame count the path has.
+  double training_seconds = 0;
+  if (opt.path_tracer_check > 0) {
+    if (std::size_t(opt.path_tracer_check) > cameras.size())
+      throw InputError("--path-tracer-check " + std::to_string(opt.path_tracer_check) + ": the path has only " +
+                       std::to_string(cameras.size()) + " frames");
+    if (!std::filesystem::is_directory(opt.model))
+      throw InputError("--path-tracer-check: --model " + opt.model +
+                       " is a model file; the check needs its run directory (its log holds the training time)");
+    training_seconds = radiosity::RunDirectory::training_seconds(opt.model);
+    if (!(training_seconds > 0))
+      throw InputError("--path-tracer-check: the log of " + opt.model +
+                       " records no training time (no row yet): there is no cost to break even with");
+  }
   std::filesystem::create_directories(opt.output);
   const RunLock lock(opt.output);  // one render per FRAMES_DIR
   install_stop_handlers();
@@ -68,7 +84,10 @@ int render_walkthrough(const Options& opt, const scene::Scene& scene, const geom
     return 0;
   }
   if (!opt.video.empty()) {
-    walkthrough::write_video(opt.output, cameras.size(), opt.fps, opt.video);
+    if (!walkthrough::write_video(opt.output, cameras.size(), opt.fps, opt.video)) {
+      std::printf("render: stopped while the video was written; the frames are kept\n");
+      return 0;
+    }
     std::printf("video: %s (%zu frames at %g fps)\n", opt.video.c_str(), cameras.size(), opt.fps);
   }
   if (opt.path_tracer_check > 0) {
@@ -76,10 +95,14 @@ int render_walkthrough(const Options& opt, const scene::Scene& scene, const geom
     check.frames_checked = opt.path_tracer_check;
     check.reference_spp = opt.check_spp;
     check.settings = opt.settings;
-    check.training_seconds = radiosity::RunDirectory::training_seconds(opt.model);
+    check.training_seconds = training_seconds;
     // The path's own throughput, where this process rendered it: more frames, a steadier figure than K.
     if (done.rendered > 0) check.model_seconds_per_frame = done.seconds / double(done.rendered);
     const auto b = walkthrough::measure_break_even(geometry, cameras, field, check);
+    if (stop_requested()) {
+      std::printf("render: stopped during the break-even check; the frames are kept, no figures were written\n");
+      return 0;
+    }
     for (const auto& c : b.checks)
       std::printf("frame %zu: model MAPE %.4f; path tracer %.2f s to reach it (%d spp measured%s)\n", c.frame,
                   c.model_mape, c.path_tracer_seconds, c.path_tracer_spp, c.extrapolated ? ", extrapolated" : "");
@@ -121,7 +144,15 @@ int render_image(Options& opt, scene::Scene& scene) {
   auto network = radiosity::RunDirectory::load_radiance(ctx, opt.model);
   // A reference that cannot be read fails before the render, not after it.
   std::optional<image::Image> reference;
-  if (!opt.reference.empty()) reference = image::read_exr(opt.reference);
+  if (!opt.reference.empty()) {
+    reference = image::read_exr(opt.reference);
+    const scene::Camera view = scene.camera.resized(opt.settings.width, opt.settings.height);
+    try {
+      image::require_matching_size(reference->width, reference->height, view.width, view.height);
+    } catch (const InputError& e) {
+      throw InputError("--reference " + opt.reference + ": " + e.what());
+    }
+  }
   const auto start = std::chrono::steady_clock::now();
   const auto img = radiosity::render(geometry, radiosity::radiance_query(ctx, *network), opt.settings);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

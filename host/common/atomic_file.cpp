@@ -6,15 +6,22 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
+#include <thread>
 
 #include "common/error.hpp"
+#include "common/input_file.hpp"
+#include "common/stop_signal.hpp"
 
 namespace clr {
 namespace fs = std::filesystem;
 namespace {
+
+// How long an output FIFO may wait for its reader to open it.
+constexpr int kFifoReaderSeconds = 10;
 
 // Runs `write` on `tmp` and hands the finished file to `place`; the temporary never outlives a failure.
 void write_then(const fs::path& tmp, const std::function<void(const fs::path&)>& write,
@@ -42,8 +49,19 @@ std::string temporary_name(const std::string& prefix, const std::string& name, c
 // Plain write(2), so that the reason of a failure (ENOSPC on a full disk, /dev/full) reaches the message.
 void copy_into(const fs::path& from, const fs::path& to) {
   std::ifstream in(from, std::ios::binary);
-  const int fd = ::open(to.c_str(), O_WRONLY | O_CLOEXEC);
+  // Opened without blocking: a FIFO that no process reads would otherwise hold the command here forever. A reader
+  // started beside the command may open its end a moment later, so one is waited for, but not for long.
+  int fd = -1;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(kFifoReaderSeconds);
+  while ((fd = ::open(to.c_str(), O_WRONLY | O_CLOEXEC | O_NONBLOCK)) < 0 && errno == ENXIO &&
+         std::chrono::steady_clock::now() < give_up && !stop_requested())
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  if (fd < 0 && errno == ENXIO)
+    throw InputError("output " + to.string() + " is a FIFO that no process read within " +
+                     std::to_string(kFifoReaderSeconds) + " s: nothing was written");
   if (fd < 0) throw std::runtime_error("cannot open " + to.string() + " for writing: " + std::strerror(errno));
+  // Written blocking from here: a reader that is slower than this process must get the whole output.
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
   char buffer[1 << 16];
   while (in) {
     in.read(buffer, sizeof buffer);
@@ -103,6 +121,25 @@ void require_writable_directory(const fs::path& dir, const std::string& what) {
 
 void require_output_path(const fs::path& path, const std::string& option) {
   std::error_code ec;
+  // A name the file system cannot hold fails only when the finished output is renamed into place: checked here,
+  // before the work, against the limits of the folder it goes into (NAME_MAX per name, PATH_MAX for the whole).
+  {
+    const fs::path whole = fs::absolute(path, ec);
+    fs::path existing = whole.parent_path();
+    while (!existing.empty() && !fs::exists(existing, ec) && existing != existing.parent_path())
+      existing = existing.parent_path();
+    const long name_max = ::pathconf(existing.c_str(), _PC_NAME_MAX),
+               path_max = ::pathconf(existing.c_str(), _PC_PATH_MAX);
+    for (const auto& part : whole)
+      if (name_max > 0 && part.native().size() > std::size_t(name_max))
+        throw InputError(option + ": the name '" + clip(part.string(), 48) + "' in " + clip(path.string(), 96) +
+                         " is " + std::to_string(part.native().size()) + " bytes long, more than the " +
+                         std::to_string(name_max) + " a file name may have");
+    if (path_max > 0 && whole.native().size() >= std::size_t(path_max))
+      throw InputError(option + ": the path " + clip(path.string(), 96) + " is " +
+                       std::to_string(whole.native().size()) + " bytes long, more than the " +
+                       std::to_string(path_max - 1) + " a path may have");
+  }
   const fs::file_status status = fs::status(path, ec);
   if (fs::is_directory(status)) throw InputError(option + ": output " + path.string() + " is a directory");
   // A device or FIFO is written through (write_atomically), its folder never gets a file.
@@ -161,6 +198,20 @@ void require_outputs(const std::vector<Output>& outputs, const std::vector<fs::p
         throw InputError(out.option + ": output " + out.path.string() + " is also the output of " + other->option);
     seen.emplace_back(id, &out);
   }
+}
+
+void require_file_target(const fs::path& path, const std::string& what) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    throw InputError(what + " " + path.string() +
+                     " is not a regular file (a device, FIFO or socket): it is kept as a file, never written through "
+                     "one");
+}
+
+void write_record_atomically(const fs::path& path, std::string_view text, const std::string& what) {
+  require_file_target(path, what);
+  write_text_atomically(path, text);
 }
 
 void write_text_atomically(const fs::path& path, std::string_view text) {

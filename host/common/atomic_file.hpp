@@ -19,6 +19,12 @@ void write_atomically(const std::filesystem::path& path,
                       const std::function<void(const std::filesystem::path&)>& write);
 void write_text_atomically(const std::filesystem::path& path, std::string_view text);
 
+// Records and caches (run and sweep records, logs, checkpoints, the GEMM probe cache) are read back later, so they
+// are files, never written through a device or FIFO as an output may be: InputError "<what> <path> is not a
+// regular file …" when something else stands at `path` (a FIFO there would block the writer for good).
+void require_file_target(const std::filesystem::path& path, const std::string& what);
+void write_record_atomically(const std::filesystem::path& path, std::string_view text, const std::string& what);
+
 // InputError "<option>: …" naming the path when an output cannot be written there: a directory, a parent that is a
 // file (/etc/hostname/x), a folder that refuses new files (read-only, /proc). Commands check their outputs before
 // the work that produces them, so a typo does not cost a whole render.

@@ -7,9 +7,12 @@
 namespace clr {
 
 void require_same_record(const std::filesystem::path& file, const nlohmann::json& record, const std::string& what,
-                         const std::map<std::string, std::string>& options) {
+                         const std::map<std::string, std::string>& options, const std::string& content) {
   if (!std::filesystem::exists(file) && !std::filesystem::is_symlink(file)) {
-    write_text_atomically(file, record.dump(2) + "\n");
+    if (!content.empty())
+      throw InputError(file.parent_path().string() + " holds " + content + " but no record of the settings they were " +
+                       "made with (" + file.filename().string() + "): they cannot be continued; use another folder");
+    write_record_atomically(file, record.dump(2) + "\n", what + " record");
     return;
   }
   const nlohmann::json recorded = read_json_file(file, what + " record");

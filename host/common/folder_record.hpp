@@ -11,7 +11,9 @@ namespace clr {
 
 // Writes `record` to `file` when there is none; else InputError "<folder> holds <what> made with other settings:
 // <option> was …, now …" for the first key whose value differs. `options` names each key's option for the message.
+// `content` names what the folder already holds that the record describes ("" when it holds none of it): content
+// without its record cannot be matched to any settings, so it is refused rather than adopted under these.
 void require_same_record(const std::filesystem::path& file, const nlohmann::json& record, const std::string& what,
-                         const std::map<std::string, std::string>& options);
+                         const std::map<std::string, std::string>& options, const std::string& content = "");
 
 }  // namespace clr

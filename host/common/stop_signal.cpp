@@ -8,6 +8,7 @@ namespace {
 std::atomic<bool> g_stop{false};
 std::atomic<int> g_signal{0};
 std::atomic<unsigned> g_continued{0};
+std::atomic<bool> g_installed{false};
 
 extern "C" void on_continue(int) { g_continued.fetch_add(1); }
 
@@ -21,13 +22,21 @@ extern "C" void on_stop_signal(int sig) {
 // A stop already requested stays requested: a sweep installs the handlers once and runs one training after
 // another, each installing them again, and a Ctrl-C between two trainings must stop the next one too.
 void install_stop_handlers() {
-  std::signal(SIGINT, on_stop_signal);
-  std::signal(SIGTERM, on_stop_signal);
+  // SIGHUP (the terminal closed) ends the work as cleanly as Ctrl-C: a checkpoint, not a kill. SIGQUIT (Ctrl-\)
+  // and SIGUSR1 too, rather than a core dump or a kill that loses the work since the last checkpoint.
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1}) std::signal(sig, on_stop_signal);
+  g_installed.store(true);
   struct sigaction continued {};
   continued.sa_handler = on_continue;
   continued.sa_flags = SA_RESTART;  // a pause must not fail a read or write with EINTR
   sigemptyset(&continued.sa_mask);
   sigaction(SIGCONT, &continued, nullptr);
+}
+
+void reclaim_signals() {
+  // A stop already requested leaves the default actions: a second signal ends the process at once.
+  const bool ours = g_installed.load() && !g_stop.load();
+  for (const int sig : {SIGHUP, SIGQUIT, SIGUSR1}) std::signal(sig, ours ? on_stop_signal : SIG_DFL);
 }
 
 bool stop_requested() { return g_stop.load(); }

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "common/input_file.hpp"
 #include "common/stop_signal.hpp"
 #include "distributed/communicator.hpp"
 
@@ -30,14 +31,17 @@ int count_of(std::size_t n) {
 // The roll call's messages: point to point, so they pass beside any collective in progress.
 constexpr int kRollCallTag = 0x5e11, kPresentTag = 0x5e12;
 
-// $CLRADIOSITY_MPI_TIMEOUT, read when first needed (an InputError then names it).
+// $CLRADIOSITY_MPI_TIMEOUT, read by the first collective (the command lines' comparison, before any work). Every
+// rank reads the same value, so a bad one is a JobInputError: the job ends with rank 0's line alone. Below a second
+// a rank that is merely a moment behind would be taken for a lost one (the roll call itself waits seconds).
 double collective_timeout() {
   const char* text = std::getenv("CLRADIOSITY_MPI_TIMEOUT");
   if (!text || !*text) return 300;
   char* end = nullptr;
   const double seconds = std::strtod(text, &end);
-  if (*end != '\0' || !std::isfinite(seconds) || seconds < 0)
-    throw InputError(std::string("CLRADIOSITY_MPI_TIMEOUT '") + text + "': give seconds ≥ 0 (0: no timeout)");
+  if (end == text || *end != '\0' || !std::isfinite(seconds) || seconds < 0 || (seconds > 0 && seconds < 1))
+    throw JobInputError(std::string("CLRADIOSITY_MPI_TIMEOUT '") + clip(text) +
+                        "': give seconds, 0 (no timeout) or at least 1");
   return seconds;
 }
 
@@ -90,8 +94,9 @@ void answer_roll_calls() {
                              "job; CLRADIOSITY_MPI_TIMEOUT sets the limit)");
   throw std::runtime_error(std::string(what) + " did not complete within " + limit + ": rank" +
                            (silent.find(',') == std::string::npos ? " " : "s ") + silent +
-                           " did not answer (stopped, hung or lost); ending the job (CLRADIOSITY_MPI_TIMEOUT sets "
-                           "the limit)");
+                           " did not answer within 5 s: stopped, hung or lost — or still computing outside any "
+                           "collective, with more work than the others (ending the job; CLRADIOSITY_MPI_TIMEOUT sets "
+                           "the limit, 0 waits for good)");
 }
 
 }  // namespace

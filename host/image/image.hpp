@@ -46,6 +46,8 @@ Image read_float_image(const std::filesystem::path& path);
 Image box_downsample(const Image& img, int factor);
 // `ref` resized to `like` when its size is an integer multiple of it; InputError when the sizes do not fit.
 Image match_size(const Image& ref, const Image& like);
+// match_size's InputError, without the images: for a reference checked before the image it is compared with is made.
+void require_matching_size(int ref_width, int ref_height, int width, int height);
 
 struct Metrics {
   double mape = 0;    // mean(|a−b| / (|b| + 0.01))

@@ -1,5 +1,6 @@
 // EXR via OpenEXR, 8/16-bit formats via stb; every write is atomic (common/atomic_file.hpp).
 #include <ImfChannelList.h>
+#include <ImfCompression.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
@@ -10,6 +11,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <memory>
 
 #include "common/atomic_file.hpp"
@@ -22,6 +25,79 @@ namespace {
 
 float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 float linear_to_srgb(float c) { return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f; }
+
+// The file's bytes, read whole (images are bounded by kMaxPixels and their own size by the disk).
+std::string file_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The fewest bytes a file of `w` × `h` pixels in its format can hold, from the format's best compression: a header
+// that announces more pixels than its bytes can encode is refused before its pixels are allocated (a 116-byte
+// .hdr announcing 16384 × 8192 would otherwise cost 1.5 GiB). Formats without a useful bound give 0 (their size
+// is bounded by kMaxPixels alone).
+std::uint64_t fewest_bytes(const std::string& bytes, long long w, long long h) {
+  const auto W = std::uint64_t(w), H = std::uint64_t(h);
+  if (bytes.starts_with("#?")) {
+    // Radiance RGBE as stb reads it: a run-length scanline (widths 8 to 32767) is a 4-byte marker and, for each of
+    // its 4 channels, runs of at most 127 bytes of 2 bytes each; any other scanline is 4 bytes a pixel.
+    const std::uint64_t rle = 4 + 4 * 2 * ((W + 126) / 127);
+    return H * (w >= 8 && w < 32768 ? std::min(rle, 4 * W) : 4 * W);
+  }
+  if (bytes.starts_with("\x89PNG")) {
+    // At least one bit a pixel and a filter byte a row, deflated at most 1032:1 (zlib's limit).
+    return H * (1 + (W + 7) / 8) / 1032;
+  }
+  if (bytes.starts_with("P5") || bytes.starts_with("P6")) return W * H * (bytes[1] == '6' ? 3 : 1);  // raw PNM
+  return 0;
+}
+
+// stb reads past a file's end as zeros without a word, so a truncated image would load with black rows: stb reads
+// through these callbacks, which note any read that finds the file exhausted.
+struct StbSource {
+  const std::string& bytes;
+  std::size_t at = 0;
+  bool starved = false;
+
+  static int read(void* user, char* data, int size) {
+    auto& s = *static_cast<StbSource*>(user);
+    const std::size_t n = std::min(std::size_t(size), s.bytes.size() - s.at);
+    if (n == 0 && size > 0) s.starved = true;
+    std::copy_n(s.bytes.data() + s.at, n, data);
+    s.at += n;
+    return int(n);
+  }
+  static void skip(void* user, int n) {
+    auto& s = *static_cast<StbSource*>(user);
+    const auto target = std::ptrdiff_t(s.at) + n;
+    if (target > std::ptrdiff_t(s.bytes.size())) s.starved = true;
+    s.at = std::size_t(std::clamp<std::ptrdiff_t>(target, 0, std::ptrdiff_t(s.bytes.size())));
+  }
+  static int eof(void* user) {
+    auto& s = *static_cast<StbSource*>(user);
+    return s.at >= s.bytes.size();
+  }
+  stbi_io_callbacks callbacks() const { return {&StbSource::read, &StbSource::skip, &StbSource::eof}; }
+};
+
+// Header first (stb would otherwise allocate whatever size it announces), then the bytes that size needs.
+void check_stb_header(const std::string& bytes, const fs::path& path, int& w, int& h, int& n) {
+  if (!stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
+                             int(std::min<std::size_t>(bytes.size(), INT32_MAX)), &w, &h, &n))
+    throw InputError("cannot read image " + path.string() + ": " + stbi_failure_reason());
+  check_image_size(w, h, "image " + path.string());
+  const std::uint64_t fewest = fewest_bytes(bytes, w, h);
+  if (bytes.size() < fewest)
+    throw InputError("image " + path.string() + ": its header announces " + std::to_string(w) + "x" +
+                     std::to_string(h) + " pixels, more than its " + std::to_string(bytes.size()) +
+                     " bytes can hold (at least " + std::to_string(fewest) + ")");
+}
+
+void check_not_starved(const StbSource& source, const fs::path& path) {
+  if (source.starved)
+    throw InputError("image " + path.string() + " is truncated: its " + std::to_string(source.bytes.size()) +
+                     " bytes end before the pixels its header announces");
+}
 
 }  // namespace
 
@@ -45,6 +121,26 @@ Image read_exr(const fs::path& path) {
     check_image_size(1LL + dw.max.x - dw.min.x, 1LL + dw.max.y - dw.min.y, "EXR " + path.string());
     const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
     const auto& channels = file.header().channels();
+    {
+      // The bytes the window needs, at the compression's best ratio (raw, or zlib's 1032:1 under the zlib and
+      // run-length codecs; the wavelet and lossy codecs give no useful bound): a short file announcing a large
+      // window is refused before the window is allocated.
+      std::uint64_t raw = 0;
+      for (auto c = channels.begin(); c != channels.end(); ++c)
+        raw += std::uint64_t(c.channel().type == Imf::HALF ? 2 : 4) * std::uint64_t(w) * std::uint64_t(h) /
+               std::uint64_t(std::max(1, c.channel().xSampling * c.channel().ySampling));
+      const auto compression = file.header().compression();
+      const std::uint64_t fewest = compression == Imf::NO_COMPRESSION ? raw
+                                   : compression == Imf::RLE_COMPRESSION || compression == Imf::ZIPS_COMPRESSION ||
+                                           compression == Imf::ZIP_COMPRESSION
+                                       ? raw / 1032
+                                       : 0;
+      const auto size = fs::file_size(path);
+      if (size < fewest)
+        throw InputError("EXR " + path.string() + ": its header announces " + std::to_string(w) + "x" +
+                         std::to_string(h) + " pixels, more than its " + std::to_string(size) +
+                         " bytes can hold (at least " + std::to_string(fewest) + ")");
+    }
     // RGB, or a single luminance channel Y; a missing channel copies the first one.
     const bool luminance = !channels.findChannel("R");
     if (luminance && !channels.findChannel("Y"))
@@ -106,12 +202,18 @@ void write_png(const fs::path& path, const Image& img, float exposure) {
 Image read_hdr(const fs::path& path) {
   if (!fs::exists(path)) throw InputError("image file not found: " + path.string());
   if (!fs::is_regular_file(path)) throw InputError("image file is not a regular file: " + path.string());
-  int w = 0, h = 0, n = 0;
-  if (!stbi_info(path.c_str(), &w, &h, &n) || !stbi_is_hdr(path.c_str()))
+  const std::string bytes = file_bytes(path);
+  if (!stbi_is_hdr_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
+                               int(std::min<std::size_t>(bytes.size(), INT32_MAX))))
     throw InputError("cannot read Radiance HDR image " + path.string());
-  check_image_size(w, h, "image " + path.string());
-  std::unique_ptr<float, void (*)(void*)> data(stbi_loadf(path.c_str(), &w, &h, &n, 3), stbi_image_free);
+  int w = 0, h = 0, n = 0;
+  check_stb_header(bytes, path, w, h, n);
+  StbSource source{bytes};
+  const auto callbacks = source.callbacks();
+  std::unique_ptr<float, void (*)(void*)> data(stbi_loadf_from_callbacks(&callbacks, &source, &w, &h, &n, 3),
+                                               stbi_image_free);
   if (!data) throw InputError("cannot read image " + path.string() + ": " + stbi_failure_reason());
+  check_not_starved(source, path);
   Image img(w, h);
   std::copy_n(data.get(), img.rgb.size(), img.rgb.begin());
   return img;
@@ -126,16 +228,19 @@ Image read_float_image(const fs::path& path) {
 Image read_ldr(const fs::path& path, bool srgb) {
   if (!fs::exists(path)) throw InputError("image file not found: " + path.string());
   if (!fs::is_regular_file(path)) throw InputError("image file is not a regular file: " + path.string());
+  const std::string bytes = file_bytes(path);
   int w = 0, h = 0, n = 0;
-  // The header first: stb would otherwise allocate whatever size it announces (up to 1 GiB) before decoding.
-  if (!stbi_info(path.c_str(), &w, &h, &n))
-    throw InputError("cannot read image " + path.string() + ": " + stbi_failure_reason());
-  check_image_size(w, h, "image " + path.string());
-  const bool wide = stbi_is_16_bit(path.c_str());
-  std::unique_ptr<void, void (*)(void*)> data(wide ? static_cast<void*>(stbi_load_16(path.c_str(), &w, &h, &n, 3))
-                                                   : static_cast<void*>(stbi_load(path.c_str(), &w, &h, &n, 3)),
-                                              stbi_image_free);
+  check_stb_header(bytes, path, w, h, n);
+  const bool wide = stbi_is_16_bit_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
+                                               int(std::min<std::size_t>(bytes.size(), INT32_MAX)));
+  StbSource source{bytes};
+  const auto callbacks = source.callbacks();
+  std::unique_ptr<void, void (*)(void*)> data(
+      wide ? static_cast<void*>(stbi_load_16_from_callbacks(&callbacks, &source, &w, &h, &n, 3))
+           : static_cast<void*>(stbi_load_from_callbacks(&callbacks, &source, &w, &h, &n, 3)),
+      stbi_image_free);
   if (!data) throw InputError("cannot read image " + path.string() + ": " + stbi_failure_reason());
+  check_not_starved(source, path);
   Image img(w, h);
   const float max = wide ? 65535.0f : 255.0f;
   for (std::size_t i = 0; i < img.rgb.size(); ++i) {

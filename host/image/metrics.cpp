@@ -30,13 +30,20 @@ Image box_downsample(const Image& img, int f) {
   return out;
 }
 
-Image match_size(const Image& ref, const Image& like) {
-  if (ref.width == like.width && ref.height == like.height) return ref;
-  if (like.width > 0 && ref.width % like.width == 0 && ref.height % like.height == 0 &&
-      ref.width / like.width == ref.height / like.height)
-    return box_downsample(ref, ref.width / like.width);
-  throw InputError("reference is " + size_text(ref) + ", image is " + size_text(like) +
+void require_matching_size(int ref_width, int ref_height, int width, int height) {
+  if (ref_width == width && ref_height == height) return;
+  if (width > 0 && height > 0 && ref_width % width == 0 && ref_height % height == 0 &&
+      ref_width / width == ref_height / height)
+    return;
+  throw InputError("reference is " + std::to_string(ref_width) + "x" + std::to_string(ref_height) + ", image is " +
+                   std::to_string(width) + "x" + std::to_string(height) +
                    ": sizes must be equal or the reference an integer multiple of the image");
+}
+
+Image match_size(const Image& ref, const Image& like) {
+  require_matching_size(ref.width, ref.height, like.width, like.height);
+  if (ref.width == like.width && ref.height == like.height) return ref;
+  return box_downsample(ref, ref.width / like.width);
 }
 
 Metrics compare(const Image& a, const Image& ref) {

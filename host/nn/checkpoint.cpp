@@ -1,5 +1,6 @@
 #include "nn/checkpoint.hpp"
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -69,6 +70,13 @@ const std::vector<float>& Checkpoint::tensor(const std::string& path, const std:
     if (v.size() != count)
       throw InputError("checkpoint " + path + ": tensor '" + name + "' holds " + std::to_string(v.size()) +
                        " values, this network needs " + std::to_string(count));
+    // A diverged run's weights (or a damaged file whose checksum was rewritten) must not be rendered from, nor be
+    // the base of a report: every output of such a model would be NaN, and resuming would train on from it.
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!std::isfinite(v[i]))
+        throw InputError("checkpoint " + path + ": tensor '" + name + "' holds a non-finite value (" +
+                         std::to_string(v[i]) + " at index " + std::to_string(i) +
+                         "): the model diverged or the file is damaged");
     return v;
   }
   throw InputError("checkpoint " + path + ": tensor '" + name + "' is missing");
@@ -91,6 +99,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
   put<std::uint64_t>(header, payload.size());
   put<std::uint64_t>(header, fnv1a64(payload.data(), payload.size()));
 
+  require_file_target(path, "checkpoint");
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     std::ofstream out(tmp, std::ios::binary);
     out.write(header.data(), std::streamsize(header.size()));

@@ -75,7 +75,7 @@ std::string to_string(const GemmPlan& plan) {
   if (plan.backend == GemmBackend::Tiled) {
     const auto& b = plan.block;
     return "tiled " + std::to_string(b.bm) + "x" + std::to_string(b.bn) + "x" + std::to_string(b.bk) + "/" +
-           std::to_string(b.wm) + "x" + std::to_string(b.wn);
+           std::to_string(b.wm) + "x" + std::to_string(b.wn) + (b.vec == 4 ? "v4" : "");
   }
   const auto& t = plan.tile;
   return "own " + std::to_string(t.tm) + "x" + std::to_string(t.vw) + "x" + std::to_string(t.nv);
@@ -95,8 +95,10 @@ std::vector<GemmBlock> gemm_blocks(const cl::DeviceInfo& device) {
   // local memory, so several groups fit a multiprocessor's 48 KiB. None on CPUs: PoCL runs a group's work-items one
   // after the other between barriers, and the kernel ran at about 1 % of the FMA peak there, some 50 times slower
   // than the register tile (docs/results/benchmarks.md), so probing it would cost seconds for nothing.
+  // The v4 forms read local memory as float4 (issue: the 8 × 8 scalar form ran at a third of an H200's peak);
+  // untimed on a GPU when added, so the probe decides.
   if (device.type == cl::DeviceType::Cpu) return {};
-  return {{64, 64, 16, 4, 4}, {128, 128, 8, 8, 8}};
+  return {{64, 64, 16, 4, 4, 1}, {128, 128, 8, 8, 8, 1}, {128, 128, 8, 8, 8, 4}, {128, 128, 16, 8, 8, 4}};
 }
 
 Gemm::Gemm(cl::Context& ctx, GemmChoice choice) : Gemm(ctx, choose_gemm_plan(ctx, choice)) {}

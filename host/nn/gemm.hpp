@@ -34,11 +34,12 @@ struct GemmTile {
 };
 // A work-group of the tiled kernel computes bm × bn of C from bk-deep panels of A and B staged in __local memory;
 // each of its (bm/wm)·(bn/wn) work-items keeps wm × wn of C in registers (BM, BN, BK, WM, WN in gemm_tiled.cl).
+// vec 4: the work-item's rows and columns in runs of 4, read from local memory as float4 (VEC in gemm_tiled.cl).
 struct GemmBlock {
-  unsigned bm, bn, bk, wm, wn;
+  unsigned bm, bn, bk, wm, wn, vec;
   std::size_t group_columns() const { return bn / wn; }  // the work-group's extent in dimension 0
   std::size_t group_rows() const { return bm / wm; }
-  std::size_t local_bytes() const { return sizeof(float) * bk * ((bm + 1) + bn); }  // As (padded) and Bs
+  std::size_t local_bytes() const { return sizeof(float) * bk * ((bm + (vec == 4 ? 4 : 1)) + bn); }  // As (padded), Bs
 };
 // What a Gemm runs: the backend, the tile of the own kernel (`own`) and the block of the tiled one (`tiled`).
 struct GemmPlan {

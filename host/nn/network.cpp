@@ -147,15 +147,38 @@ void validate(const NetworkConfig& c) {
   require(a.decay_interval >= 1, "adam.decay_interval", a.decay_interval, ">= 1");
 }
 
+// RFC 7386's merge, but a null is kept as a value rather than read as "remove the key": the documented
+// `encoder.grid: null` means "no hash grid", and removing the key instead brought back a default grid over the
+// unit cube, not the scene's box. A null anywhere else is refused (there, removing a key restores a default that the
+// patch's author did not ask for, such as a scene-derived box; no other value may be null).
+void merge_keeping_nulls(nlohmann::json& target, const nlohmann::json& patch, const std::string& at) {
+  if (!patch.is_object()) {
+    target = patch;
+    return;
+  }
+  if (!target.is_object()) target = nlohmann::json::object();
+  for (const auto& [key, value] : patch.items()) {
+    const std::string name = at + clip(key);
+    if (value.is_null() && name != "encoder.grid")
+      throw InputError("network config entry '" + name + "' is null: only encoder.grid may be (no hash grid)");
+    if (value.is_object())
+      merge_keeping_nulls(target[key], value, name + ".");
+    else
+      target[key] = value;
+  }
+}
+
 }  // namespace
 
 NetworkConfig merge_patch(const NetworkConfig& base, const nlohmann::json& patch) {
   nlohmann::json j = to_json(base);
-  j.merge_patch(patch);
+  merge_keeping_nulls(j, patch, "");
   return network_config_from_json(j);
 }
 
 NetworkConfig network_config_from_json(const nlohmann::json& j) {
+  // Anything but an object would read as "every key absent", i.e. the defaults, whatever the file held.
+  if (!j.is_object()) throw InputError("network config must be a JSON object, not " + clip(j.dump()));
   NetworkConfig c;
   std::string at;
   try {

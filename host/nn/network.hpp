@@ -48,7 +48,9 @@ std::size_t mlp_parameter_count(const NetworkConfig& c);
 std::size_t encoded_columns(const EncoderConfig& e);
 std::size_t grid_parameter_count(const NetworkConfig& c);
 NetworkConfig network_config_from_json(const nlohmann::json& j);  // throws InputError naming a bad entry
-// `base` with a JSON merge patch (RFC 7396) applied: a user's overrides of a module's defaults.
+// `base` with a JSON merge patch (RFC 7396) applied: a user's overrides of a module's defaults. Unlike RFC 7396, a
+// null is a value, not a removal: `encoder.grid: null` is "no hash grid" (docs/cli.md), and a null elsewhere is an
+// InputError.
 NetworkConfig merge_patch(const NetworkConfig& base, const nlohmann::json& patch);
 
 struct NetworkContext {

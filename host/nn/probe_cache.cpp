@@ -54,7 +54,7 @@ double ProbeCache::seconds(const std::string& candidate, const std::function<dou
 ProbeCache::~ProbeCache() {
   if (!measured_ || file_.empty()) return;
   try {
-    write_text_atomically(file_, cache_.dump(2) + "\n");
+    write_record_atomically(file_, cache_.dump(2) + "\n", "GEMM probe cache");
   } catch (const std::exception&) {
     // best effort: an unwritable cache only costs a re-probe next time
   }

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <string_view>
 #include <system_error>
 
 #include "common/atomic_file.hpp"
@@ -51,7 +52,7 @@ void add_evaluation_columns(const fs::path& log_file, const TrainConfig& config)
   std::string out = log_header(config, true) + "\n", line;
   while (std::getline(rows, line))
     if (!line.empty()) out += line + ",,,\n";
-  write_text_atomically(log_file, out);
+  write_record_atomically(log_file, out, "run log");
 }
 
 // A run killed (SIGKILL, power loss) while writing leaves write_atomically's temporary ("model.clr.tmp<pid>")
@@ -96,9 +97,14 @@ double logged_seconds(const fs::path& log_file) {
 
 constexpr const char* kGuideBefore = "guide_before.";
 
-void write_model(const fs::path& dir, const TrainConfig& config, const nn::Network& network, const nn::Network* guide,
-                 const nn::Network* guide_before = nullptr) {
-  nn::Checkpoint c = network.checkpoint(std::to_string(config.seed));
+// The checkpoint's free-form state string carries the seed and its scene's digest ("1 scene 0123…"), so that a
+// model.clr copied out of its run, or into another one, is still checked against the scene it is given.
+constexpr std::string_view kSceneMark = " scene ";
+
+void write_model(const fs::path& dir, const TrainConfig& config, const scene::SceneFingerprint& scene,
+                 const nn::Network& network, const nn::Network* guide, const nn::Network* guide_before = nullptr) {
+  nn::Checkpoint c = network.checkpoint(std::to_string(config.seed) +
+                                        (scene.digest.empty() ? "" : std::string(kSceneMark) + scene.digest));
   if (guide) guide->add_tensors(c, "guide.");
   if (guide_before) guide_before->add_parameter_tensors(c, kGuideBefore);
   nn::write_checkpoint(RunDirectory::model_path(dir).string(), c);
@@ -114,7 +120,7 @@ nlohmann::json scene_record(const scene::SceneFingerprint& scene) {
 
 void write_scene(const fs::path& dir, scene::SceneFingerprint scene) {
   scene.scene = fs::absolute(scene.scene).lexically_normal();
-  write_text_atomically(RunDirectory::scene_path(dir), scene_record(scene).dump(2) + "\n");
+  write_record_atomically(RunDirectory::scene_path(dir), scene_record(scene).dump(2) + "\n", "run scene record");
 }
 
 // scene.json as written by write_scene; nullopt for a run written before runs recorded their scene.
@@ -134,6 +140,8 @@ std::optional<scene::SceneFingerprint> read_scene(const fs::path& dir) {
     throw InputError(file.string() + ": not a run's scene record (" + clip(e.what()) + ")");
   }
   require_known_and_kept(j, scene_record(f), file.string());
+  if (scene::files_digest(f.files, f.parameters) != f.digest)
+    throw InputError(file.string() + ": its digest does not match the files it lists (the record was edited)");
   return f;
 }
 
@@ -155,8 +163,8 @@ void RunDirectory::start(const TrainConfig& config, const scene::SceneFingerprin
   config_ = config;
   scene_ = scene;
   write_scene(dir_, scene);
-  write_text_atomically(config_path(dir_), nlohmann::json(config).dump(2) + "\n");
-  write_text_atomically(log_path(dir_), log_header(config, true) + "\n");
+  write_record_atomically(config_path(dir_), nlohmann::json(config).dump(2) + "\n", "run config");
+  write_record_atomically(log_path(dir_), log_header(config, true) + "\n", "run log");
 }
 
 RunDirectory RunDirectory::resume(const fs::path& dir, const scene::SceneFingerprint& scene) {
@@ -165,11 +173,9 @@ RunDirectory RunDirectory::resume(const fs::path& dir, const scene::SceneFingerp
   remove_stale_temporaries(dir);
   run.config_ = load_config(dir);
   run.seconds_trained_ = logged_seconds(log_path(dir));
+  require_scene(dir, scene);  // before the log is touched: a run refused is left as it was
   add_evaluation_columns(log_path(dir), run.config_);
-  require_scene(dir, scene);
   run.scene_ = scene;
-  // A run from before scene records gets one now: its later readers are checked.
-  if (!read_scene(dir)) write_scene(dir, scene);
   return run;
 }
 
@@ -177,6 +183,8 @@ TrainConfig RunDirectory::load_config(const fs::path& run) {
   const fs::path file = config_path(run);
   nlohmann::json saved = read_json_file(file, "run config");
   if (saved.is_object() && !saved.contains("method")) saved["method"] = to_string(Method::Nr);
+  // Runs written before the lagged guide became the default drew their guided directions unlagged.
+  if (saved.is_object() && !saved.contains("guide_lag")) saved["guide_lag"] = 0;
   try {
     return parse_train_config(saved);
   } catch (const InputError& e) {
@@ -212,20 +220,20 @@ void RunDirectory::replace_last_log_row(const LogRow& r) const {
   while (!text.empty() && text.back() == '\n') text.pop_back();
   const auto last = text.rfind('\n');
   text.resize(last == std::string::npos ? 0 : last + 1);
-  write_text_atomically(log_path(dir_), text + log_line(r));
+  write_record_atomically(log_path(dir_), text + log_line(r), "run log");
 }
 
 void RunDirectory::save_model(const nn::Network& network, const nn::Network* guide,
                               const nn::Network* guide_before) const {
-  write_model(dir_, config_, network, guide, guide_before);
+  write_model(dir_, config_, scene_, network, guide, guide_before);
 }
 
 void RunDirectory::write_snapshot(const fs::path& dir, const TrainConfig& config, const nn::Network& network,
                                   const nn::Network* guide) const {
   fs::create_directories(dir);
   write_scene(dir, scene_);
-  write_text_atomically(config_path(dir), nlohmann::json(config).dump(2) + "\n");
-  write_model(dir, config, network, guide);
+  write_record_atomically(config_path(dir), nlohmann::json(config).dump(2) + "\n", "run config");
+  write_model(dir, config, scene_, network, guide);
 }
 
 std::vector<fs::path> RunDirectory::input_files(const fs::path& run) {
@@ -237,12 +245,30 @@ double RunDirectory::training_seconds(const fs::path& run) { return logged_secon
 
 void RunDirectory::require_scene(const fs::path& run, const scene::SceneFingerprint& scene) {
   const auto recorded = read_scene(run_folder(run));
-  // A run written before runs recorded their scene (or not a run at all: reading it fails next, with its own
-  // message) is not checked; resuming it records the scene.
-  if (!recorded || *recorded == scene) return;
-  throw InputError(run.string() + " was trained on " + recorded->scene.string() + " (scene digest " + recorded->digest +
-                   "); " + scene.scene.string() + " is another scene (digest " + scene.digest + ": " +
-                   scene::difference(*recorded, scene) + ")");
+  if (recorded && !(*recorded == scene))
+    throw InputError(run.string() + " was trained on " + recorded->scene.string() + " (scene digest " +
+                     recorded->digest + "); " + scene.scene.string() + " is another scene (digest " + scene.digest +
+                     ": " + scene::difference(*recorded, scene) + ")");
+  // The model's own record of its scene, where its checkpoint carries one: a model.clr copied into another run
+  // matches that run's scene.json but not its own scene. (A model that is no regular file, or no checkpoint, is
+  // left to the checkpoint reader, whose message names the fault.)
+  const fs::path model = fs::is_directory(run) ? model_path(run) : run;
+  std::optional<std::string> carried;
+  if (fs::is_regular_file(model)) try {
+      const std::string state = nn::read_checkpoint(model.string()).rng_state;
+      if (const auto at = state.find(kSceneMark); at != std::string::npos)
+        carried = state.substr(at + kSceneMark.size());
+    } catch (const InputError&) {
+    }
+  if (carried && *carried != scene.digest)
+    throw InputError(model.string() + " was trained on another scene (digest " + *carried + ") than " +
+                     scene.scene.string() + " (digest " + scene.digest + ")" +
+                     (recorded ? ", though the scene record beside it matches: it was copied from another run" : ""));
+  // A model with no record of its scene at all cannot be matched to one: adopting it under the scene given now
+  // would answer with another scene's box and inputs.
+  if (!recorded && !carried && fs::is_regular_file(model))
+    throw InputError(model.string() + ": the model has no scene record (" + scene_path(run_folder(run)).string() +
+                     "): the scene it was trained on cannot be checked; train it again");
 }
 
 std::unique_ptr<nn::Network> RunDirectory::load_radiance(cl::Context& ctx, const fs::path& run) {
@@ -252,6 +278,10 @@ std::unique_ptr<nn::Network> RunDirectory::load_radiance(cl::Context& ctx, const
 std::unique_ptr<nn::Network> RunDirectory::load_guide(cl::Context& ctx, const fs::path& run) {
   const fs::path file = config_path(run);
   const nlohmann::json config = read_json_file(file, "run config");
+  // Types checked before the values are read: nlohmann's type_error would otherwise end the command as a raw
+  // library message with exit 1.
+  if (!config.is_object() || (config.contains("method") && !config.at("method").is_string()))
+    throw InputError(file.string() + ": not a run config ('method' must be a string)");
   if (config.value("method", to_string(Method::Nr)) != std::string(to_string(Method::Isnr)) ||
       !config.contains("guide"))
     throw InputError(run.string() + " was trained without an I-Module (method nr): there is no guide to read");

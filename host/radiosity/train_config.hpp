@@ -45,8 +45,9 @@ struct TrainConfig {
   // previous step's update, so the host traces them only once that update is done (the step's one blocking read).
   // 1: drawn from the I-Module before the previous step's update — step k+1's directions are drawn and read back
   // early in step k, and the host traces them while the device runs step k's networks (docs/design.md §2). The
-  // estimate stays unbiased either way: p̃ is the density the directions were drawn from.
-  int guide_lag = 0;
+  // estimate stays unbiased either way: p̃ is the density the directions were drawn from. 1 by default: it trained
+  // as well as 0 within the seeds' spread on the Cornell box and Veach Bidir (docs/results/isnr.md).
+  int guide_lag = 1;
   Residual residual = Residual::Relative;
   int samples = 4;     // N incident directions per point
   int batch = 0;       // M points per step; 0 = chosen for the device

@@ -169,7 +169,7 @@ StepStats Trainer::step() {
   }
   const std::size_t M = batch_.points, N = batch_.samples;
   {
-    const StageTimer timer(batch_, &HostStageTimes::uploads);
+    const StageTimer timer(batch_, &HostStageTimes::uploads, ctx_);
     if (pipelined)
       point_rows_up_.send(*ctx_, point_rows_, batch_.point_rows);
     else
@@ -264,7 +264,7 @@ void Trainer::draw_lagged_lobes(std::uint64_t step) {
     next_points_ = step + 1;
   }
   {
-    const StageTimer timer(next_batch_, &HostStageTimes::uploads);
+    const StageTimer timer(next_batch_, &HostStageTimes::uploads, ctx_);
     if (schedule_ == StepSchedule::Pipelined)
       next_rows_up_.send(*ctx_, next_rows_, next_batch_.point_rows);
     else

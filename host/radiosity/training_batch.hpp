@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "cl/context.hpp"
 #include "geometry/surface_sampler.hpp"
 #include "radiosity/surface_query.hpp"
 
@@ -25,9 +26,11 @@ struct HostStageTimes {
   double bsdf_cpu = 0, tracing_cpu = 0, delta_lights_cpu = 0;  // … split by thread time
   double packing = 0;  // lookup rows compacted, p̃ without a guide, the lobes' frames
   double uploads = 0;  // the batch's arrays handed to the device (blocking writes, or copies into pinned memory)
+  // Blocked until the device freed pinned memory for reuse (the device is behind the host), out of the stages above.
+  double device_wait = 0;
   std::size_t steps = 0;
 
-  // The host's own work; guide_read is mostly waiting for the device.
+  // The host's own work; guide_read and device_wait are waiting for the device.
   double host_work() const { return points + incident + packing + uploads; }
 };
 
@@ -56,19 +59,27 @@ struct TrainingBatch {
   std::size_t lookups() const { return incident_rows.size() / nn::kRawInputs; }
 };
 
-// Adds the wall time of its scope to one of a batch's stages (nothing when the batch is not timed).
+// Adds the wall time of its scope to one of a batch's stages (nothing when the batch is not timed); with `ctx`, the
+// part spent blocked on the device's pinned memory goes to device_wait instead.
 class StageTimer {
  public:
-  StageTimer(const TrainingBatch& batch, double HostStageTimes::*stage)
-      : target_(batch.times ? &(batch.times->*stage) : nullptr) {}
+  StageTimer(const TrainingBatch& batch, double HostStageTimes::*stage, const cl::Context* ctx = nullptr)
+      : times_(batch.times), stage_(stage), ctx_(ctx), waited_(ctx ? ctx->waited_seconds() : 0.0) {}
   ~StageTimer() {
-    if (target_) *target_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (!times_) return;
+    const double all = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const double waited = ctx_ ? ctx_->waited_seconds() - waited_ : 0.0;
+    times_->*stage_ += all - waited;
+    times_->device_wait += waited;
   }
   StageTimer(const StageTimer&) = delete;
   StageTimer& operator=(const StageTimer&) = delete;
 
  private:
-  double* target_;
+  HostStageTimes* times_;
+  double HostStageTimes::*stage_;
+  const cl::Context* ctx_;
+  double waited_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 

@@ -9,6 +9,7 @@
 #include "common/parallel.hpp"
 #include "common/pcg32.hpp"
 #include "common/progress.hpp"
+#include "common/stop_signal.hpp"
 #include "geometry/delta_lighting.hpp"
 #include "reference/light_sampler.hpp"
 
@@ -126,6 +127,7 @@ image::Image render(const geometry::Geometry& geometry, const RenderOptions& opt
     for (std::size_t i = i0; i < i1; ++i) {
       const std::size_t y = offset + i * stride;
       for (int x = 0; x < camera.width; ++x) {
+        if (options.stoppable && stop_requested()) break;
         Pcg32 rng(y * std::size_t(camera.width) + std::size_t(x), options.seed);
         glm::dvec3 sum(0.0);
         for (int s = 0; s < options.spp; ++s) {

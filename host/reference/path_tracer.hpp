@@ -23,6 +23,9 @@ struct RenderOptions {
   // Only rows y ≡ row_offset (mod row_stride) are rendered, the rest left 0: an MPI rank's share of the image.
   // Interleaved rows give every rank a like mix of the image's costly and cheap parts.
   int row_offset = 0, row_stride = 1;
+  // Pixels stop being traced once a stop is requested (common/stop_signal.hpp), so that a signal ends even a long
+  // render within moments: the image is then incomplete, and the caller must not use it (check stop_requested()).
+  bool stoppable = false;
 };
 
 struct RenderStats {

@@ -7,25 +7,30 @@
 namespace clr::scene {
 namespace fs = std::filesystem;
 
+std::string files_digest(const std::vector<SceneFingerprint::File>& files,
+                         const std::map<std::string, std::string>& parameters) {
+  Digest all;
+  // The scene file is named by its position: a renamed scene.xml with the same content is the same scene.
+  for (std::size_t i = 0; i < files.size(); ++i)
+    all.add(i == 0 ? "" : files[i].name).add("\n").add(files[i].digest).add("\n");
+  // Added only where there are any, so a scene loaded without -D keeps the digest runs recorded before -D existed.
+  for (const auto& [name, value] : parameters) all.add("-D ").add(name).add("=").add(value).add("\n");
+  return all.hex();
+}
+
 SceneFingerprint fingerprint(const Scene& scene) {
   SceneFingerprint f;
   if (scene.files.empty()) return f;
   f.scene = scene.files.front();
   const fs::path folder = fs::absolute(f.scene).lexically_normal().parent_path();
-  Digest all;
   for (std::size_t i = 0; i < scene.files.size(); ++i) {
     const fs::path absolute = fs::absolute(scene.files[i]).lexically_normal();
     const fs::path relative = absolute.lexically_relative(folder);
     const bool inside = !relative.empty() && *relative.begin() != "..";
-    SceneFingerprint::File entry{(inside ? relative : absolute).generic_string(), scene.file_digests.at(i)};
-    // The scene file is named by its position: a renamed scene.xml with the same content is the same scene.
-    all.add(i == 0 ? "" : entry.name).add("\n").add(entry.digest).add("\n");
-    f.files.push_back(std::move(entry));
+    f.files.push_back({(inside ? relative : absolute).generic_string(), scene.file_digests.at(i)});
   }
-  // Added only where there are any, so a scene loaded without -D keeps the digest runs recorded before -D existed.
-  for (const auto& [name, value] : scene.parameters) all.add("-D ").add(name).add("=").add(value).add("\n");
   f.parameters = scene.parameters;
-  f.digest = all.hex();
+  f.digest = files_digest(f.files, f.parameters);
   return f;
 }
 

@@ -23,8 +23,20 @@ struct SceneFingerprint {
   std::map<std::string, std::string> parameters;  // Scene::parameters (-D), where any
   std::string digest;                             // over the files' names and digests, in order, and the parameters
 
-  bool operator==(const SceneFingerprint& other) const { return digest == other.digest; }
+  // The whole record: a digest alone would let a record whose file list was edited (or whose digest was copied from
+  // another run) pass. The scene file's own name is left out (a renamed scene is the same scene).
+  bool operator==(const SceneFingerprint& other) const {
+    if (digest != other.digest || parameters != other.parameters || files.size() != other.files.size()) return false;
+    for (std::size_t i = 0; i < files.size(); ++i)
+      if (files[i].digest != other.files[i].digest || (i > 0 && files[i].name != other.files[i].name)) return false;
+    return true;
+  }
 };
+
+// The digest over the files' names and digests and the -D parameters (SceneFingerprint::digest), so that a record can
+// be checked against its own file list.
+std::string files_digest(const std::vector<SceneFingerprint::File>& files,
+                         const std::map<std::string, std::string>& parameters = {});
 
 SceneFingerprint fingerprint(const Scene& scene);
 // What differs from a recorded fingerprint (`from`, "then") to the current one (`to`, "now"), for a message:

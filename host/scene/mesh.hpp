@@ -44,8 +44,12 @@ struct Mesh {
   // Mitsuba 0.x's max_smooth_angle: smooth normals only across edges whose faces meet within the angle (degrees);
   // sharper edges stay creases. Every triangle corner becomes its own vertex.
   void compute_crease_normals(float max_angle_degrees);
-  // InputError (prefixed with `what`) for non-finite geometry, indices out of range, attributes of the wrong size,
-  // or no triangles. Attribute values are checked only where a texture reads them (the loader's keep_attributes).
+  // InputError (prefixed with `what`) for a triangle index beyond the vertices, normals, uvs or attributes of a
+  // size other than the vertices' (or faces'), or an attribute named twice: what must hold before any index is
+  // used. Every file reader calls it on its mesh before returning it.
+  void check_structure(const std::string& what) const;
+  // InputError (prefixed with `what`) for check_structure's faults, non-finite geometry or no triangles. Attribute
+  // values are checked only where a texture reads them (the loader's keep_attributes).
   void validate(const std::string& what) const;
   double area() const;
 };

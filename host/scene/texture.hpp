@@ -19,6 +19,7 @@ struct Bitmap {
   int width = 0, height = 0;
   std::vector<Rgb> texels;
   Rgb mean{0.0f};
+  Rgb minimum{0.0f};  // per channel over the texels
 
   // png/jpg/bmp (8-bit; sRGB-decoded unless `raw`, or decoded as value^gamma when `gamma` > 0, Mitsuba 0.x's
   // override) or exr/hdr (linear). InputError naming the file on failure.
@@ -73,6 +74,10 @@ class Texture {
   // colour is needed, e.g. for lobe-selection weights. A mesh attribute's average depends on the mesh, which a
   // material shared by shapes does not know: it stands as scale/2, a mid-range value (Mitsuba has no mean for it).
   Rgb mean() const;
+  // The smallest value the texture takes, per channel (a mesh attribute's: its scale's sign, with the mesh's
+  // values checked where a shape reads them): light and reflectance must be non-negative at every texel, not
+  // only on average.
+  Rgb minimum() const;
   // A mesh_attribute's attribute name and the texture's id; empty for the other kinds.
   const std::string& attribute() const { return attribute_; }
   const std::string& id() const { return id_; }

@@ -94,11 +94,13 @@ std::vector<Target> missing_targets(const SweepContext& sweep, const Configurati
 
 void take_snapshot(const radiosity::Trainer& trainer, const cl::Context& ctx, const Target& t) {
   trainer.save_snapshot(t.dir);
-  write_text_atomically(t.dir / "snapshot.json", nlohmann::json{{"steps", trainer.steps_done()},
-                                                                {"seconds", trainer.seconds_trained()},
-                                                                {"peak_device_bytes", ctx.peak_bytes()}}
-                                                         .dump() +
-                                                     "\n");
+  write_record_atomically(t.dir / "snapshot.json",
+                          nlohmann::json{{"steps", trainer.steps_done()},
+                                         {"seconds", trainer.seconds_trained()},
+                                         {"peak_device_bytes", ctx.peak_bytes()}}
+                                  .dump() +
+                              "\n",
+                          "snapshot record");
 }
 
 void evaluate(const SweepContext& sweep, const Configuration& config, const Target& t) {

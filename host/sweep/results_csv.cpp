@@ -108,7 +108,7 @@ void write_results(const std::filesystem::path& path, const std::vector<Row>& ro
             std::to_string(r.spp) + "," + number(r.render_seconds) + "," + number(r.mape) + "," + number(r.mse) + "," +
             number(r.relmse) + "," + std::to_string(r.non_finite) + "," + number(r.residual) + "," +
             number(r.residual_se) + "," + r.image + "," + r.error_map + "\n";
-  write_text_atomically(path, text);
+  write_record_atomically(path, text, "sweep results");
 }
 
 }  // namespace clr::sweep

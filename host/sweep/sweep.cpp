@@ -68,7 +68,7 @@ void draw_figures(const SweepOptions& o) {
   // python3-matplotlib installs for Debian's interpreter, which a pyenv or conda python3 first on PATH hides.
   std::string python;
   for (const char* candidate : {"python3", "/usr/bin/python3"})
-    if (run_program({candidate, "-c", "import matplotlib"}, true)) {
+    if (run_program({candidate, "-c", "import matplotlib"}, true).ok) {
       python = candidate;
       break;
     }
@@ -77,8 +77,8 @@ void draw_figures(const SweepOptions& o) {
     return;
   }
   std::fflush(stdout);
-  if (!run_program({python, o.plot_script.string(), o.dir.string()}, false))
-    std::printf("sweep: figures failed: %s exited with an error (the tables are complete)\n", o.plot_script.c_str());
+  if (const ProgramResult r = run_program({python, o.plot_script.string(), o.dir.string()}, false); !r.ok)
+    std::printf("sweep: figures failed: %s: %s (the tables are complete)\n", o.plot_script.c_str(), r.cause.c_str());
 }
 
 // What every row of SWEEP_DIR's table depends on. Budgets, methods, sample counts and seeds only add rows; a change
@@ -130,7 +130,8 @@ void run_sweep(cl::Context& ctx, const SweepOptions& options) {
                        {"render_spp", "--spp"},
                        {"residual_points", "--residual-points"},
                        {"residual_samples", "--residual-samples"},
-                       {"config", "--config"}});
+                       {"config", "--config"}},
+                      fs::exists(results) ? "rows (results.csv)" : "");
   install_stop_handlers();
   const geometry::Geometry geometry(scene);
   const image::Image reference = reference_image(geometry, o, width, height);

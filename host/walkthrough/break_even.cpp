@@ -23,6 +23,7 @@ FrameCheck path_trace_to(const geometry::Geometry& geometry, const scene::Camera
   pass.width = o.settings.width;
   pass.height = o.settings.height;
   pass.camera = camera;
+  pass.stoppable = true;
   image::Image sum(reference.width, reference.height);
   double seconds = 0, last_seconds = 0, last_mape = 0;
   int total_spp = 0;
@@ -32,6 +33,10 @@ FrameCheck path_trace_to(const geometry::Geometry& geometry, const scene::Camera
     const auto start = std::chrono::steady_clock::now();
     const image::Image img = reference::render(geometry, pass);
     const double t = seconds_since(start);
+    if (stop_requested()) {  // the pass is incomplete: no figure from it
+      check.path_tracer_seconds = NAN;
+      return check;
+    }
     seconds += t;
     total_spp += spp;
     image::Image mean(img.width, img.height);
@@ -110,7 +115,9 @@ BreakEven measure_break_even(const geometry::Geometry& geometry, const std::vect
     ref.spp = o.reference_spp;
     ref.seed = (std::uint64_t(1) << 40) + frames[i];  // never a pass's seed
     ref.progress = true;
+    ref.stoppable = true;
     const image::Image reference = reference::render(geometry, ref);
+    if (stop_requested()) break;  // an incomplete reference measures nothing
     const double target = image::compare(model[i], reference).mape;
     // A model with non-finite pixels has no error the path tracer could match.
     FrameCheck check = std::isfinite(target) ? path_trace_to(geometry, views[i], reference, target, o) : FrameCheck{};

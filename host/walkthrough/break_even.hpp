@@ -42,6 +42,8 @@ struct BreakEven {
   nlohmann::json to_json() const;
 };
 
+// A stop (SIGINT, SIGTERM, SIGHUP) ends it within moments, with the frames checked so far; the caller reports
+// nothing when stop_requested().
 BreakEven measure_break_even(const geometry::Geometry& geometry, const std::vector<scene::Camera>& cameras,
                              const radiosity::RadianceQuery& field, const BreakEvenOptions& options);
 

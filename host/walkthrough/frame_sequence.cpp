@@ -2,8 +2,10 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 
 #include "common/digest.hpp"
+#include "common/error.hpp"
 #include "common/folder_record.hpp"
 #include "common/progress.hpp"
 #include "common/stop_signal.hpp"
@@ -39,6 +41,17 @@ SequenceResult render_sequence(const geometry::Geometry& geometry, const std::ve
   record["spp"] = o.settings.spp;
   record["seed"] = o.settings.seed;
   fs::create_directories(o.dir);
+  // Frames the record would describe: any frame file, and beyond the path's length, frames the record cannot hold.
+  std::string content;
+  for (const auto& e : fs::directory_iterator(o.dir)) {
+    const std::string name = e.path().filename().string();
+    if (!name.starts_with("frame_")) continue;
+    content = "frames (" + name + ")";
+    const std::size_t number = std::strtoull(name.c_str() + 6, nullptr, 10);
+    if (number >= cameras.size() && fs::exists(o.dir / "frames.json"))
+      throw InputError(o.dir.string() + " holds " + name + ", beyond the " + std::to_string(cameras.size()) +
+                       " frames its record describes: the folder was made with another path; use another folder");
+  }
   require_same_record(o.dir / "frames.json", record, "frames",
                       {{"scene", "the scene (its files)"},
                        {"model", "--model (its checkpoint)"},
@@ -47,7 +60,8 @@ SequenceResult render_sequence(const geometry::Geometry& geometry, const std::ve
                        {"width", "--width"},
                        {"height", "--height"},
                        {"spp", "--spp"},
-                       {"seed", "--seed"}});
+                       {"seed", "--seed"}},
+                      content);
 
   // Frames done by an earlier run (their EXR is written atomically, so one that exists is complete).
   SequenceResult result;

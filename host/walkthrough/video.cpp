@@ -6,6 +6,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
+#include "common/stop_signal.hpp"
 #include "common/subprocess.hpp"
 
 namespace clr::walkthrough {
@@ -31,18 +32,26 @@ void require_video_writer(const std::filesystem::path& video) {
     throw InputError("--video: ffmpeg is not installed (apt-get install ffmpeg); the frames alone need no --video");
 }
 
-void write_video(const std::filesystem::path& frames_dir, std::size_t frames, double fps,
+bool write_video(const std::filesystem::path& frames_dir, std::size_t frames, double fps,
                  const std::filesystem::path& video) {
-  write_atomically(video, [&](const std::filesystem::path& tmp) {
-    std::vector<std::string> args = {"ffmpeg",     "-y",
-                                     "-loglevel",  "error",
-                                     "-framerate", std::to_string(fps),
-                                     "-i",         (frames_dir / "frame_%05d.png").string(),
-                                     "-frames:v",  std::to_string(frames)};
-    for (auto& a : format_arguments(video)) args.push_back(a);
-    args.push_back(tmp.string());
-    if (!run_program(args, false)) throw std::runtime_error("ffmpeg failed to write " + video.string());
-  });
+  struct Stopped {};
+  try {
+    write_atomically(video, [&](const std::filesystem::path& tmp) {
+      std::vector<std::string> args = {"ffmpeg",     "-y",
+                                       "-loglevel",  "error",
+                                       "-framerate", std::to_string(fps),
+                                       "-i",         (frames_dir / "frame_%05d.png").string(),
+                                       "-frames:v",  std::to_string(frames)};
+      for (auto& a : format_arguments(video)) args.push_back(a);
+      args.push_back(tmp.string());
+      const ProgramResult r = run_program(args, false);
+      if (stop_requested()) throw Stopped{};  // ffmpeg was stopped too: its partial file is removed with the temporary
+      if (!r.ok) throw std::runtime_error("ffmpeg failed to write " + video.string() + ": " + r.cause);
+    });
+  } catch (const Stopped&) {
+    return false;
+  }
+  return true;
 }
 
 }  // namespace clr::walkthrough

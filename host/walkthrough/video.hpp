@@ -10,7 +10,8 @@ namespace clr::walkthrough {
 void require_video_writer(const std::filesystem::path& video);
 
 // Encodes FRAMES_DIR's frame_NNNNN.png (all `frames` of them) at `fps` into `video`, atomically.
-void write_video(const std::filesystem::path& frames_dir, std::size_t frames, double fps,
+// false when a stop was requested while ffmpeg ran (ffmpeg is stopped too, no video is left).
+bool write_video(const std::filesystem::path& frames_dir, std::size_t frames, double fps,
                  const std::filesystem::path& video);
 
 }  // namespace clr::walkthrough

@@ -81,6 +81,51 @@ TEST_F(FaultCli, TerminateWritesACheckpointAndExitsCleanly) {
   EXPECT_NO_THROW(nn::read_checkpoint((run / "model.clr").string()));
 }
 
+// A closed terminal (SIGHUP), Ctrl-\\ (SIGQUIT) and SIGUSR1 (which a runtime's handler swallowed) stop a training
+// as cleanly as SIGTERM: a checkpoint, 128 + the signal, never a kill that loses the steps since the last one.
+TEST_F(FaultCli, HangupAndQuitWriteACheckpointAndExitCleanly) {
+  for (const int sig : {SIGHUP, SIGQUIT, SIGUSR1}) {
+    const fs::path run = dir / ("run_" + std::to_string(sig));
+    const pid_t pid = start_training(run, false);
+    ASSERT_GE(pid, 0);
+    ASSERT_TRUE(wait_for_lines(run / "log.csv", 3)) << "training did not start logging";
+    ::kill(pid, sig);
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFEXITED(status)) << "signal " << sig << " killed it (" << WTERMSIG(status) << ")";
+    EXPECT_EQ(WEXITSTATUS(status), 128 + sig);
+    EXPECT_NO_THROW(nn::read_checkpoint((run / "model.clr").string()));
+  }
+}
+
+// A reader that closed its end of stdout's pipe ends the command with one line, not a silent death by SIGPIPE.
+TEST(FaultCliPipe, AClosedStdoutEndsWithOneLine) {
+  int out[2], err[2];
+  ASSERT_EQ(::pipe(out), 0);
+  ASSERT_EQ(::pipe(err), 0);
+  ::close(out[0]);  // no reader, ever
+  const pid_t pid = fork();
+  if (pid == 0) {
+    dup2(out[1], 1);
+    dup2(err[1], 2);
+    ::close(err[0]);
+    execl(CLR_CLI_PATH, "clradiosity", "--help", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  ::close(out[1]);
+  ::close(err[1]);
+  std::string text;
+  char buffer[4096];
+  for (ssize_t n; (n = ::read(err[0], buffer, sizeof buffer)) > 0;) text.append(buffer, std::size_t(n));
+  ::close(err[0]);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+  EXPECT_THAT(text, HasSubstr("writing standard output"));
+}
+
 // The main job is a run like any other: a second one in the same folder is refused instead of deleting the
 // first's run, and the first signal ends the whole job (no render, no 1024-spp reference) with 128 + the signal.
 TEST_F(FaultCli, MainJobLocksItsFolderAndStopsAtTheFirstSignal) {

@@ -147,5 +147,78 @@ TEST_F(WalkthroughCli, BreakEvenFiguresArePrintedAndWritten) {
   }
 }
 
+// Records cannot be skipped: frames in a folder without its frames.json, or beyond the count its record holds, are
+// refused rather than adopted under the settings given now; nothing is rendered.
+TEST_F(WalkthroughCli, FramesWithoutTheirRecordAreRefused) {
+  const fs::path frames = dir / "frames";
+  const std::string args = "--orbit 3 --width 16 --height 16 --spp 1 -o " + frames.string();
+  ASSERT_EQ(run_cli(render(args)).exit_code, 0);
+  fs::remove(frames / "frames.json");
+  auto r = run_cli(render(args));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("but no record of the settings"));
+  EXPECT_FALSE(fs::exists(frames / "frames.json")) << "a record was made up for frames made without one";
+  ASSERT_EQ(run_cli(render(args + "2")).exit_code, 0) << "a fresh folder";
+  fs::copy_file(frames / "frame_00000.exr", fs::path(frames.string() + "2") / "frame_00007.exr");
+  r = run_cli(render(args + "2"));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("frame_00007.exr, beyond the 3 frames"));
+}
+
+// Refused before the work: a reference of the wrong size, and a break-even check that has no training time to
+// weigh (a model file outside its run) or more frames to check than the path has. No image, no frame is written.
+TEST_F(WalkthroughCli, UnusableReferenceAndBreakEvenInputsAreRefusedFirst) {
+  const fs::path out = dir / "image.exr", frames = dir / "checked";
+  ASSERT_EQ(run_cli("reference " + kBox + " --spp 1 --width 24 --height 16 -o " + (dir / "ref.exr").string()).exit_code,
+            0);
+  auto r = run_cli(render("--width 16 --height 16 --reference " + (dir / "ref.exr").string() + " -o " + out.string()));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("--reference"));
+  EXPECT_THAT(r.err, HasSubstr("reference is 24x16, image is 16x16"));
+  EXPECT_FALSE(fs::exists(out)) << "the render was made before the reference was checked";
+  const std::string model_file = "render " + kBox + " --model " + (fs::path(run) / "model.clr").string();
+  for (const auto& [args, culprit] : std::vector<std::pair<std::string, std::string>>{
+           {render("--orbit 3 --path-tracer-check 4"), "the path has only 3 frames"},
+           {model_file + " --orbit 3 --path-tracer-check 1", "the check needs its run directory"}}) {
+    r = run_cli(args + " --width 8 --height 8 --spp 1 -o " + frames.string());
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.err;
+    EXPECT_THAT(r.err, HasSubstr(culprit)) << args;
+    EXPECT_FALSE(fs::exists(frames / "frame_00000.exr")) << args << ": frames were rendered first";
+  }
+}
+
+// SIGUSR1 and SIGQUIT are not swallowed by the compiler the OpenCL runtime loads (LLVM catches SIGUSR1 and does
+// nothing): a render, which has no safe point to stop at, ends by the signal's default action.
+TEST_F(WalkthroughCli, SignalsAreNotSwallowedByTheRuntime) {
+  for (const int sig : {SIGUSR1, SIGQUIT}) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+      const int null = ::open("/dev/null", O_WRONLY);
+      dup2(null, 1);
+      dup2(null, 2);
+      const std::string out = (dir / "long.exr").string();
+      execl(CLR_CLI_PATH, "clradiosity", "render", kBox.c_str(), "--model", run.c_str(), "--spp", "65536", "--width",
+            "256", "--height", "256", "-o", out.c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    ASSERT_GT(pid, 0);
+    std::this_thread::sleep_for(std::chrono::seconds(4));  // the runtime loaded, kernels built, rendering
+    ::kill(pid, sig);
+    int status = 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    pid_t done = 0;
+    while ((done = waitpid(pid, &status, WNOHANG)) == 0 && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (done == 0) {
+      ::kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      ADD_FAILURE() << "signal " << sig << " was swallowed: the render went on";
+      continue;
+    }
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << "signal " << sig;
+    EXPECT_FALSE(fs::exists(dir / "long.exr"));
+  }
+}
+
 }  // namespace
 }  // namespace clr::test

@@ -20,6 +20,8 @@
 #include "image/image.hpp"
 #include "nn/checkpoint.hpp"
 #include "nn/network.hpp"
+#include "scene/fingerprint.hpp"
+#include "scene/scene.hpp"
 
 namespace clr::test {
 namespace {
@@ -39,10 +41,10 @@ struct Result {
   std::string err;
 };
 
-// Runs clradiosity with shell-word `args` under the limits above.
-Result run_limited(const std::string& args, const fs::path& dir) {
+// Runs clradiosity with shell-word `args` under the limits above, with the environment's `env` (NAME=value words).
+Result run_limited(const std::string& args, const fs::path& dir, const std::string& env = "") {
   const fs::path err = dir / ("stderr_" + std::to_string(::getpid()) + ".txt");
-  const std::string cmd = "ulimit -v " + std::to_string(kAddressSpaceKiB) + "; exec timeout " +
+  const std::string cmd = "ulimit -v " + std::to_string(kAddressSpaceKiB) + "; exec env " + env + " timeout " +
                           std::to_string(kSeconds) + " '" + CLR_CLI_PATH + "' " + args + " >/dev/null 2>'" +
                           err.string() + "' </dev/null";
   const int status = std::system(cmd.c_str());
@@ -191,6 +193,13 @@ const std::vector<Case>& cases() {
       scene_case("include_self.xml", "recursive include"),
       generated_case("include_doubling_0.xml", "files loaded through <include>"),
       scene_case("dangling_ref.xml", "unknown id 'nowhere'"),
+      // Every recursion bounded: forward references, include chains, BSDFs nested through references.
+      generated_case("forward_refs.xml", "plugins nested deeper than 128 levels"),
+      generated_case("include_chain_0.xml", "plugins nested deeper than 128 levels"),
+      generated_case("mask_chain.xml", "BSDFs nested 33 deep"),
+      generated_case("blend_doubling.xml", "BSDFs in all"),
+      // Memory budgeted before it is spent: 300 instances of a group holding a sphere are 79 million triangles.
+      generated_case("instance_bomb.xml", "<shape type=\"instance\">: the scene reaches"),
       scene_case("laughs.xml", "after $parameter substitution"),
       scene_case("no_emitter.xml", "no emitter"),
       scene_case("zero_emitter.xml", "no emitter"),
@@ -207,6 +216,17 @@ const std::vector<Case>& cases() {
       scene_case("fov_180.xml", "fov must lie in (0, 180)"),
       scene_case("negative_radiance.xml", "radiance must be non-negative"),
       scene_case("negative_environment.xml", "<emitter type=\"constant\">: radiance must be non-negative"),
+      // Light never negative, wherever it comes from: texels (not only their mean), scales, reflectances.
+      generated_case("negative_texel_radiance.xml", "radiance must be non-negative and finite (a texel holds -4)"),
+      generated_case("negative_texel_reflectance.xml",
+                     "reflectance must be non-negative and finite (a texel holds -4)"),
+      generated_case("negative_texel_spot.xml", "texture must be non-negative and finite (a texel holds -4)"),
+      generated_case("negative_texel_projector.xml", "irradiance must be non-negative and finite (a texel holds -4)"),
+      generated_case("negative_scale_projector.xml", "<emitter type=\"projector\">: scale must be non-negative"),
+      generated_case("negative_scale_envmap.xml", "<emitter type=\"envmap\">: scale must be non-negative"),
+      generated_case("negative_pixel_envmap.xml", "environment map has a negative pixel at (3, 1)"),
+      generated_case("negative_checker.xml", "reflectance must be non-negative and finite (a texel holds -0.2)"),
+      generated_case("negative_blend_weight.xml", "weight must be non-negative and finite (it is -0.5)"),
       scene_case("missing_mesh.xml", "not found"),
       scene_case("bad_spectrum.xml", "<spectrum name=\"radiance\">: wavelengths must increase"),
       scene_case("bad_hex_colour.xml", "malformed colour '#12345g'"),
@@ -244,6 +264,19 @@ const std::vector<Case>& cases() {
       generated_case("truncated_binary.ply.xml", "more than the file's 20 bytes"),
       generated_case("huge_list.ply.xml", "list length out of range"),
       generated_case("nan_binary.ply.xml", "not finite"),
+      // Indices and duplicates checked by every mesh reader before normals are computed from them.
+      generated_case("ply_index_smooth.xml", "index out of range"),
+      generated_case("ply_index_crease.xml", "index out of range"),
+      generated_case("ply_two_vertex_elements.ply.xml", "PLY element 'vertex' is declared twice"),
+      generated_case("ply_two_x.ply.xml", "PLY property 'x' of element 'vertex' is declared twice"),
+      generated_case("ply_fraction_index.ply.xml", "PLY face index 1.500000 is not a whole number"),
+      // Parsing is linear: creased normals of a fan of 500 000 coplanar triangles about one vertex (each corner at
+      // the centre compared with every other was 2.5e11 comparisons).
+      generated_case("fan_crease.xml", "", 0),
+      generated_case("index.serialized.xml", "triangle vertex index 7 is out of range"),
+      // A valid triangle followed by 3 GiB of zeros in its zlib stream (3 MB on disk): read as the triangle it is,
+      // never inflated whole (beyond the 4 GiB address-space limit of these rows).
+      generated_case("bomb.serialized.xml", "", 0),
       // Mesh attributes (mesh_attribute textures)
       generated_case("attribute_missing.xml",
                      "mesh_attribute texture 'tex' reads attribute 'face_color', which shape 'attributed' does not "
@@ -274,6 +307,15 @@ const std::vector<Case>& cases() {
       generated_case("huge_window.exr.xml", "EXR"),
       generated_case("nan_envmap.exr.xml", "non-finite pixels"),
       generated_case("nan_texture.exr.xml", "non-finite texels"),
+      // Image dimensions against the bytes present, in every image reader; truncated pixels refused.
+      generated_case("huge.hdr.xml", "16384x8192 pixels, more than its"),
+      generated_case("huge_envmap.hdr.xml", "16384x8192 pixels, more than its"),
+      generated_case("truncated.hdr.xml", "is truncated"),
+      generated_case("truncated_envmap.hdr.xml", "is truncated"),
+      generated_case("header_only.png.xml", "bytes can hold"),
+      generated_case("truncated.png.xml", "image"),
+      generated_case("truncated.ppm.xml", "bytes can hold"),
+      generated_case("big_window.exr.xml", "bytes can hold"),
       // command-line options
       train_case("train_learning_rate_nan", "--steps 1 --learning-rate nan", "--learning-rate"),
       train_case("train_learning_rate_negative", "--steps 1 --learning-rate -1", "--learning-rate"),
@@ -346,6 +388,20 @@ const std::vector<Case>& cases() {
        "tensor 'mlp.params'"},
       {"checkpoint_config_not_json", "render '{box}' --model '{t}/not_json_run' -o '{t}/out.exr'", 2,
        "malformed JSON in the network config of checkpoint"},
+      // One terminal-safe line: control characters escaped, invalid UTF-8 shown as bytes, never printed raw.
+      generated_case("newline_type.xml", "unsupported shape type 'te\\napot'"),
+      generated_case("escape_type.xml", "unsupported shape type '\\x1b[31mred'"),
+      {"option_bytes", "reference '{box}' --spp '1\xff' -o '{t}/out.exr'", 2, "\\xff"},
+      {"scene_name_not_utf8", "train '{t}/box\xff.xml' --steps 1 -o '{t}/run'", 2, "is not valid UTF-8"},
+      // Refused before the work: names the file system cannot hold, an output FIFO that nobody reads.
+      {"output_name_too_long", "reference '{box}' --spp 1 -o '{t}/" + std::string(300, 'n') + ".exr'", 2,
+       "a file name may have"},
+      {"error_map_name_too_long",
+       "compare '{t}/good.exr' '{t}/good.exr' --error-map '{t}/" + std::string(300, 'm') + ".png'", 2,
+       "a file name may have"},
+      {"render_png_name_too_long",
+       "render '{box}' --model '{t}/none' -o '{t}/out.exr' --png '{t}/" + std::string(256, 'p') + "'", 2,
+       "a file name may have"},
       // images compared
       {"compare_garbage", "compare '{t}/garbage.exr' '{t}/garbage.exr'", 2, "cannot read EXR"},
       {"compare_huge_window", "compare '{t}/huge_window.exr' '{t}/huge_window.exr'", 2, "EXR"},
@@ -383,6 +439,42 @@ void generate(const fs::path& t) {
                                   : std::string()) +
               "</scene>\n");
   }
+  {
+    // 10 000 BSDFs each referring to the next, declared further down: built recursively from the first.
+    constexpr int kChain = 10000;
+    std::string chain = "<bsdf type=\"diffuse\" id=\"b" + std::to_string(kChain) + "\"/>";
+    for (int i = kChain - 1; i >= 0; --i)
+      chain = "<bsdf type=\"mask\" id=\"b" + std::to_string(i) + "\"><ref id=\"b" + std::to_string(i + 1) +
+              "\"/></bsdf>\n" + chain;
+    write(t / "forward_refs.xml",
+          scene_around("<shape type=\"rectangle\"><emitter type=\"area\"/><ref id=\"b0\"/></shape>\n" + chain));
+    // 33 masks each nesting the one before (no forward reference: each is built when declared).
+    std::string masks = "<bsdf type=\"diffuse\" id=\"m0\"/>\n";
+    for (int i = 1; i <= 33; ++i)
+      masks +=
+          "<bsdf type=\"mask\" id=\"m" + std::to_string(i) + "\"><ref id=\"m" + std::to_string(i - 1) + "\"/></bsdf>\n";
+    write(t / "mask_chain.xml", scene_around(masks + "<shape type=\"rectangle\"><emitter type=\"area\"/>"
+                                                     "<ref id=\"m33\"/></shape>"));
+    // 20 blends each nesting the one before twice: 2^20 evaluations per sample at the top.
+    std::string blends = "<bsdf type=\"diffuse\" id=\"d0\"/>\n";
+    for (int i = 1; i <= 20; ++i)
+      blends += "<bsdf type=\"blendbsdf\" id=\"d" + std::to_string(i) + "\"><ref id=\"d" + std::to_string(i - 1) +
+                "\"/><ref id=\"d" + std::to_string(i - 1) + "\"/></bsdf>\n";
+    write(t / "blend_doubling.xml", scene_around(blends + "<shape type=\"rectangle\"><emitter type=\"area\"/>"
+                                                          "<ref id=\"d20\"/></shape>"));
+    std::string instances =
+        "<shape type=\"rectangle\"><emitter type=\"area\"/></shape>\n<shape type=\"shapegroup\" id=\"g\">"
+        "<shape type=\"sphere\"/></shape>\n";
+    for (int i = 0; i < 300; ++i) instances += "<shape type=\"instance\"><ref id=\"g\"/></shape>\n";
+    write(t / "instance_bomb.xml", scene_around(instances));
+    // 200 files each including the next (under the limit on files loaded, beyond the nesting limit).
+    for (int i = 0; i < 200; ++i)
+      write(t / ("include_chain_" + std::to_string(i) + ".xml"),
+            "<scene version=\"3.0.0\">" +
+                (i + 1 < 200 ? "<include filename=\"include_chain_" + std::to_string(i + 1) + ".xml\"/>"
+                             : std::string()) +
+                "</scene>\n");
+  }
   const std::string degenerate =
       "<shape type=\"obj\"><string name=\"filename\" value=\"" + (kCorpus / "degenerate.obj").string() + "\"/>";
   write(t / "degenerate_beside_light.xml",
@@ -417,6 +509,51 @@ void generate(const fs::path& t) {
   }
   for (const char* f : {"billions_binary.ply", "truncated_binary.ply", "huge_list.ply", "nan_binary.ply"})
     write(t / (std::string(f) + ".xml"), mesh_scene("ply", t / f));
+  {
+    constexpr std::uint32_t kFan = 500000;
+    std::string fan = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(kFan + 2) +
+                      "\nproperty float x\nproperty float y\nproperty float z\nelement face " + std::to_string(kFan) +
+                      "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const float v : {0.0f, 0.0f, 0.0f}) put(fan, v);
+    for (std::uint32_t k = 0; k <= kFan; ++k) {
+      const double a = 6.283185307179586 * double(k) / double(kFan + 1);
+      for (const float v : {float(std::cos(a)), float(std::sin(a)), 0.0f}) put(fan, v);
+    }
+    for (std::uint32_t k = 0; k < kFan; ++k) {
+      fan.push_back(char(3));
+      for (const std::int32_t i : {0, std::int32_t(k + 1), std::int32_t(k + 2)}) put(fan, i);
+    }
+    write(t / "fan.ply", fan);
+    write(t / "fan_crease.xml",
+          scene_around("<shape type=\"ply\"><string name=\"filename\" value=\"" + (t / "fan.ply").string() +
+                       "\"/><float name=\"max_smooth_angle\" value=\"30\"/>"
+                       "<emitter type=\"area\"/></shape>"));
+  }
+  // A face index beyond the vertices under smoothing (the normals are computed from the indices) and creasing.
+  for (const auto& [name, option] : {std::pair<std::string, std::string>{"smooth", ""},
+                                     {"crease", "<float name=\"max_smooth_angle\" value=\"30\"/>"}})
+    write(t / ("ply_index_" + name + ".xml"),
+          scene_around("<shape type=\"rectangle\"><emitter type=\"area\"/></shape><shape type=\"ply\">"
+                       "<string name=\"filename\" value=\"" +
+                       (kCorpus / "ply_index.ply").string() + "\"/>" + option + "</shape>"));
+  {
+    const std::string ascii_triangle = "0 0 0\n1 0 0\n0 1 0\n";
+    write(t / "ply_two_vertex_elements.ply",
+          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+          "element vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\n"
+          "property list uchar int vertex_indices\nend_header\n" +
+              ascii_triangle + ascii_triangle + "3 0 1 2\n");
+    write(t / "ply_two_x.ply",
+          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float x\nproperty float y\n"
+          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+          "0 0 0 0\n1 1 0 0\n0 0 1 0\n3 0 1 2\n");
+    write(t / "ply_fraction_index.ply",
+          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+          "element face 1\nproperty list uchar float vertex_indices\nend_header\n" +
+              ascii_triangle + "3 0 1.5 2\n");
+    for (const char* f : {"ply_two_vertex_elements.ply", "ply_two_x.ply", "ply_fraction_index.ply"})
+      write(t / (std::string(f) + ".xml"), mesh_scene("ply", t / f));
+  }
 
   // Mesh attributes: a triangle with vertex colours (and alpha) and a face weight (NaN in one file), under a light,
   // its reflectance the mesh_attribute texture `tex`.
@@ -453,7 +590,41 @@ void generate(const fs::path& t) {
   write(t / "shape_table.serialized", serialized(std::string(16, '\0'), 0xffffffffu));
   write(t / "bad_zlib.serialized", serialized(random_bytes(256, 5), 1));
   write(t / "counts.serialized", serialized(serialized_shape(1ull << 31, 1ull << 31), 1));
-  for (const char* f : {"garbage.serialized", "shape_table.serialized", "bad_zlib.serialized", "counts.serialized"})
+  {  // one triangle over three vertices whose last index lies beyond them
+    std::string raw;
+    put<std::uint32_t>(raw, 0);
+    raw.push_back('\0');
+    put<std::uint64_t>(raw, 3);
+    put<std::uint64_t>(raw, 1);
+    for (const float v : triangle) put(raw, v);
+    for (const std::uint32_t i : {0u, 1u, 7u}) put(raw, i);
+    write(t / "index.serialized", serialized(zlib(raw), 1));
+    raw.resize(raw.size() - 4);
+    put<std::uint32_t>(raw, 2);
+    // The same triangle, valid, then 3 GiB of zeros, deflated a chunk at a time.
+    z_stream z{};
+    deflateInit(&z, Z_BEST_SPEED);
+    std::string bomb;
+    const std::string zeros(1 << 20, '\0');
+    char out[1 << 16];
+    const auto pump = [&](const std::string& in, int flush) {
+      z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(in.data()));
+      z.avail_in = uInt(in.size());
+      do {
+        z.next_out = reinterpret_cast<Bytef*>(out);
+        z.avail_out = sizeof out;
+        deflate(&z, flush);
+        bomb.append(out, sizeof out - z.avail_out);
+      } while (z.avail_out == 0);
+    };
+    pump(raw, Z_NO_FLUSH);
+    for (int i = 0; i < 3 * 1024; ++i) pump(zeros, Z_NO_FLUSH);
+    pump("", Z_FINISH);
+    deflateEnd(&z);
+    write(t / "bomb.serialized", serialized(bomb, 1));
+  }
+  for (const char* f : {"garbage.serialized", "shape_table.serialized", "bad_zlib.serialized", "counts.serialized",
+                        "index.serialized", "bomb.serialized"})
     write(t / (std::string(f) + ".xml"), mesh_scene("serialized", t / f));
 
   // .vol (sdfgrid)
@@ -496,6 +667,73 @@ void generate(const fs::path& t) {
     }
     write(t / "huge_window.exr", huge);
   }
+  {
+    const std::string rgbe = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n";
+    write(t / "huge.hdr", rgbe + "-Y 8192 +X 16384\n" + random_bytes(64, 9));
+    // 16 × 4 flat pixels need 256 bytes; 100 are there.
+    write(t / "truncated.hdr", rgbe + "-Y 4 +X 16\n" + std::string(100, char(0x80)));
+    write(t / "header_only.png", png_header_only(8000, 8000));
+    write(t / "truncated.ppm", "P6\n64 64\n255\n" + random_bytes(100, 10));
+    image::Image noise(64, 64);
+    std::mt19937 rng(11);
+    for (auto& v : noise.rgb) v = std::uniform_real_distribution<float>(0.0f, 1.0f)(rng);
+    image::write_png(t / "whole.png", noise);
+    const std::string png = read(t / "whole.png");
+    write(t / "truncated.png", png.substr(0, png.size() / 2));
+    // The header's dataWindow made to announce 4096 × 4096 pixels (within the pixel limit) over a few hundred bytes.
+    std::string big = exr;
+    const std::string key = std::string("dataWindow\0box2i\0", 17);
+    const auto at = big.find(key);
+    if (at != std::string::npos) {
+      const std::int32_t max = 4095;
+      std::memcpy(&big[at + key.size() + 4 + 8], &max, 4);
+      std::memcpy(&big[at + key.size() + 4 + 12], &max, 4);
+    }
+    // Padded past the line offset table OpenEXR reads first (256 chunks of 16 lines): the pixels are what is missing.
+    write(t / "big_window.exr", big + std::string(256 * 8 + 64, '\0'));
+    for (const char* f :
+         {"huge.hdr", "truncated.hdr", "header_only.png", "truncated.ppm", "truncated.png", "big_window.exr"})
+      write(t / (std::string(f) + ".xml"), texture_scene(t / f));
+    write(t / "huge_envmap.hdr.xml", envmap_scene(t / "huge.hdr"));
+    write(t / "truncated_envmap.hdr.xml", envmap_scene(t / "truncated.hdr"));
+  }
+  {
+    // One texel of -4 among positive ones, the mean positive.
+    image::Image negative(8, 4);
+    for (auto& v : negative.rgb) v = 1.0f;
+    negative.pixel(3, 1)[0] = -4.0f;
+    image::write_exr(t / "negative.exr", negative);
+    const std::string bitmap = "<texture type=\"bitmap\" name=\"NAME\"><string name=\"filename\" value=\"" +
+                               (t / "negative.exr").string() + "\"/></texture>";
+    const auto named = [&](const std::string& name) {
+      std::string b = bitmap;
+      return b.replace(b.find("NAME"), 4, name);
+    };
+    const std::string light = "<shape type=\"rectangle\"><emitter type=\"area\"/></shape>";
+    write(t / "negative_texel_radiance.xml",
+          scene_around("<shape type=\"rectangle\"><emitter type=\"area\">" + named("radiance") + "</emitter></shape>"));
+    write(t / "negative_texel_reflectance.xml",
+          scene_around(light + "<shape type=\"rectangle\"><bsdf type=\"diffuse\">" + named("reflectance") +
+                       "</bsdf></shape>"));
+    write(t / "negative_texel_spot.xml",
+          scene_around(light + "<emitter type=\"spot\">" + named("texture") + "</emitter>"));
+    write(t / "negative_texel_projector.xml",
+          scene_around(light + "<emitter type=\"projector\">" + named("irradiance") + "</emitter>"));
+    write(t / "negative_scale_projector.xml",
+          scene_around(light + "<emitter type=\"projector\"><rgb name=\"irradiance\" value=\"1\"/>"
+                               "<float name=\"scale\" value=\"-2\"/></emitter>"));
+    write(t / "negative_scale_envmap.xml",
+          scene_around("<shape type=\"rectangle\"/><emitter type=\"envmap\"><string name=\"filename\" value=\"" +
+                       (t / "good.exr").string() + "\"/><float name=\"scale\" value=\"-1\"/></emitter>"));
+    write(t / "negative_pixel_envmap.xml", envmap_scene(t / "negative.exr"));
+    write(t / "negative_checker.xml",
+          scene_around(light + "<shape type=\"rectangle\"><bsdf type=\"diffuse\"><texture type=\"checkerboard\" "
+                               "name=\"reflectance\"><rgb name=\"color0\" value=\"-0.2\"/><rgb name=\"color1\" "
+                               "value=\"1\"/></texture></bsdf></shape>"));
+    write(t / "negative_blend_weight.xml",
+          scene_around(light + "<shape type=\"rectangle\"><bsdf type=\"blendbsdf\"><float name=\"weight\" "
+                               "value=\"-0.5\"/><bsdf type=\"diffuse\"/><bsdf type=\"diffuse\"/></bsdf></shape>"));
+  }
   small.rgb[5] = std::numeric_limits<float>::quiet_NaN();
   image::write_exr(t / "nan.exr", small);
   for (const char* f : {"garbage.png", "huge.png", "truncated.exr", "garbage.exr", "huge_window.exr"})
@@ -503,9 +741,19 @@ void generate(const fs::path& t) {
   write(t / "nan_texture.exr.xml", texture_scene(t / "nan.exr"));
   write(t / "nan_envmap.exr.xml", envmap_scene(t / "nan.exr"));
 
-  // Checkpoints (render --model RUN_DIR).
-  for (const char* run : {"garbage_run", "truncated_run", "hostile_run", "not_json_run"})
+  // Checkpoints (render --model RUN_DIR), each beside the box's scene record: a model without one is refused before
+  // its checkpoint is read.
+  nlohmann::json box_record;
+  {
+    const auto f = scene::fingerprint(scene::load_scene(kBox));
+    nlohmann::json files = nlohmann::json::array();
+    for (const auto& e : f.files) files.push_back({{"name", e.name}, {"digest", e.digest}});
+    box_record = {{"scene", f.scene.string()}, {"digest", f.digest}, {"files", files}};
+  }
+  for (const char* run : {"garbage_run", "truncated_run", "hostile_run", "not_json_run"}) {
     fs::create_directories(t / run);
+    write(t / run / "scene.json", box_record.dump());
+  }
   write(t / "garbage_run" / "model.clr", random_bytes(4096, 8));
   nn::Checkpoint c;
   c.config_json = nn::to_json(nn::NetworkConfig{}).dump();
@@ -547,7 +795,11 @@ void generate(const fs::path& t) {
   write(t / "seed_negative.json", R"({"seed": -1})");
   // FIFOs where a file is read: opening one for reading would block until a writer came.
   ::mkfifo((t / "fifo").c_str(), 0600);
+  write(t / "newline_type.xml", scene_around("<shape type=\"te&#10;apot\"/>"));
+  write(t / "escape_type.xml", scene_around("<shape type=\"&#27;[31mred\"/>"));
+  fs::copy_file(kBox, t / "box\xff.xml");
   fs::create_directories(t / "fifo_run");
+  write(t / "fifo_run" / "scene.json", box_record.dump());
   ::mkfifo((t / "fifo_run" / "model.clr").c_str(), 0600);
   // Run directories to resume whose own files are bad (the checkpoint itself is never reached).
   for (const char* run : {"fifo_config_run", "malformed_config_run", "nan_log_run"}) {
@@ -615,6 +867,85 @@ TEST(BadInputCorpusOutput, DevNullStaysADevice) {
                              fs::temp_directory_path());
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::is_character_file("/dev/null")) << "/dev/null was replaced by a regular file";
+}
+
+// An output FIFO that no process reads ends the command with its line (found when the output is written: opening a
+// FIFO to test it would end a reader's input early), instead of waiting for a reader forever.
+TEST(BadInputCorpusOutput, OutputFifoWithoutReaderEnds) {
+  const fs::path dir = fs::temp_directory_path() / ("clr_out_fifo_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  ASSERT_EQ(::mkfifo((dir / "out.exr").c_str(), 0600), 0);
+  const auto r = run_limited(
+      "reference '" + kBox.string() + "' --spp 1 --width 4 --height 4 -o '" + (dir / "out.exr").string() + "'", dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("is a FIFO that no process read within"));
+  EXPECT_TRUE(fs::is_fifo(dir / "out.exr"));
+  fs::remove_all(dir);
+}
+
+// Warnings echo the scene's values too, and are terminal-safe as errors are: an escape sequence in a property's
+// name (a Mitsuba 0.x scene only warns about it) is shown escaped, never sent to the terminal.
+TEST(BadInputCorpusOutput, WarningsAreTerminalSafe) {
+  const fs::path dir = fs::temp_directory_path() / ("clr_warning_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  write(dir / "scene.xml",
+        "<scene version=\"0.6.0\"><sensor type=\"perspective\"/><shape type=\"rectangle\">"
+        "<float name=\"odd&#27;[1mname\" value=\"1\"/><emitter type=\"area\"/></shape></scene>");
+  const auto r = run_limited("reference '" + (dir / "scene.xml").string() + "' --spp 1 --width 4 --height 4 -o '" +
+                                 (dir / "out.exr").string() + "'",
+                             dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("unused property 'odd\\x1b[1mname'"));
+  EXPECT_EQ(r.err.find('\x1b'), std::string::npos) << "a raw escape reached the terminal";
+  fs::remove_all(dir);
+}
+
+// PoCL's kernel cache as it is now, so that a test that changes XDG_CACHE_HOME does not recompile every kernel.
+std::string pocl_cache() {
+  if (const char* dir = std::getenv("POCL_CACHE_DIR"); dir && *dir) return dir;
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return (fs::path(xdg) / "pocl").string();
+  if (const char* home = std::getenv("HOME"); home && *home) return (fs::path(home) / ".cache" / "pocl").string();
+  return "";
+}
+
+// A FIFO where the GEMM probe cache is kept is neither read nor written (writing through it blocked `train` for
+// good before its first step): the run trains, the FIFO stays.
+TEST(BadInputCorpusOutput, ProbeCacheFifoIsNotWrittenThrough) {
+  if (cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL device";
+  const fs::path dir = fs::temp_directory_path() / ("clr_probe_fifo_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "xdg" / "clradiosity");
+  const fs::path fifo = dir / "xdg" / "clradiosity" / "gemm_probe.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const auto r =
+      run_limited("train '" + kBox.string() + "' --steps 1 --batch 256 -o '" + (dir / "run").string() + "'", dir,
+                  "XDG_CACHE_HOME='" + (dir / "xdg").string() + "' POCL_CACHE_DIR='" + pocl_cache() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  fs::remove_all(dir);
+}
+
+// An unusable PoCL kernel cache folder is named before any kernel is built (PoCL registers its platform anyway and
+// then fails every build with an empty log).
+TEST(BadInputCorpusOutput, UnusablePoclCacheIsNamed) {
+  bool pocl = false;
+  for (const auto& d : cl::list_devices())
+    pocl = pocl || d.platform_name.find("Portable Computing Language") != std::string::npos;
+  if (!pocl) GTEST_SKIP() << "no PoCL device";
+  const fs::path dir = fs::temp_directory_path() / ("clr_pocl_cache_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  write(dir / "a_file", "x");
+  const auto r =
+      run_limited("train '" + kBox.string() + "' --device pocl --steps 1 -o '" + (dir / "run").string() + "'", dir,
+                  "POCL_CACHE_DIR='" + (dir / "a_file").string() + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("kernel cache folder is not usable"));
+  EXPECT_THAT(r.err, HasSubstr((dir / "a_file").string()));
+  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -92,6 +92,55 @@ TEST(NetworkConfig, CheckpointTensorCountCannotWrapTheBoundCheck) {
   std::filesystem::remove(path);
 }
 
+// Documented sentinels survive a patch: `encoder.grid: null` is "no hash grid" (not RFC 7396's "remove the key",
+// which brought back a default grid over the unit cube), and a patch of the grid keeps the scene's box.
+TEST(NetworkConfig, NullGridInAPatchMeansNoGrid) {
+  nn::NetworkConfig base;
+  base.encoder.grid->bbox_lo = {-5, -6, -7};
+  base.encoder.grid->bbox_hi = {5, 6, 7};
+  EXPECT_FALSE(nn::merge_patch(base, {{"encoder", {{"grid", nullptr}}}}).encoder.grid);
+  const auto levels = nn::merge_patch(base, {{"encoder", {{"grid", {{"levels", 4}}}}}});
+  ASSERT_TRUE(levels.encoder.grid);
+  EXPECT_EQ(levels.encoder.grid->levels, 4);
+  EXPECT_EQ(levels.encoder.grid->bbox_lo, base.encoder.grid->bbox_lo) << "the scene's box survives the patch";
+  EXPECT_EQ(levels.encoder.grid->bbox_hi, base.encoder.grid->bbox_hi);
+  // The guide's patch too (the other module), and no patch that removes a grid by accident.
+  EXPECT_FALSE(nn::merge_patch(nn::NetworkConfig{}, {{"encoder", {{"grid", nullptr}, {"albedo", true}}}}).encoder.grid);
+  // Any other null would silently restore a default (a scene-derived box among them): refused, named.
+  for (const auto& [patch, name] : std::vector<std::pair<nlohmann::json, const char*>>{
+           {{{"width", nullptr}}, "'width' is null"},
+           {{{"encoder", nullptr}}, "'encoder' is null"},
+           {{{"encoder", {{"grid", {{"bbox_lo", nullptr}}}}}}, "'encoder.grid.bbox_lo' is null"},
+           {{{"adam", {{"learning_rate", nullptr}}}}, "'adam.learning_rate' is null"}}) {
+    try {
+      nn::merge_patch(base, patch);
+      ADD_FAILURE() << patch.dump() << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(name));
+    }
+  }
+  EXPECT_THROW(nn::network_config_from_json(nlohmann::json::array({1, 2})), InputError) << "not an object";
+}
+
+// Non-finite weights are named when a checkpoint's tensors are taken, whichever tensor holds them.
+TEST(NetworkConfig, NonFiniteCheckpointTensorsAreRefused) {
+  nn::Checkpoint c;
+  for (const char* name : {"mlp.params", "grid.table", "guide.mlp.adam.v"})
+    c.tensors.emplace_back(name, std::vector<float>(16, 0.25f));
+  EXPECT_NO_THROW(c.tensor("m.clr", "mlp.params", 16));
+  c.tensors[1].second[7] = std::numeric_limits<float>::quiet_NaN();
+  c.tensors[2].second[15] = -std::numeric_limits<float>::infinity();
+  for (const auto& [name, index] : {std::pair{"grid.table", "index 7"}, std::pair{"guide.mlp.adam.v", "index 15"}}) {
+    try {
+      c.tensor("m.clr", name, 16);
+      ADD_FAILURE() << name << " with a non-finite value was taken";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(std::string("tensor '") + name + "' holds a non-finite value"));
+      EXPECT_THAT(e.what(), HasSubstr(index));
+    }
+  }
+}
+
 TEST_F(ClTest, ParameterCountsWithoutBuildingMatchTheNetwork) {
   nn::NetworkConfig c;
   c.encoder.grid->levels = 4;

@@ -10,6 +10,7 @@
 
 #include "common/digest.hpp"
 #include "common/error.hpp"
+#include "nn/checkpoint.hpp"
 #include "scene/fingerprint.hpp"
 
 namespace clr::radiosity {
@@ -179,15 +180,76 @@ TEST_F(RunDirectoryTest, ARunBelongsToTheSceneItWasTrainedOn) {
   }
 }
 
-TEST_F(RunDirectoryTest, ARunWithoutASceneRecordIsReadAndGetsOneOnResume) {
+// A model without its scene record cannot be matched to a scene: refused, not adopted (and recorded) under the scene
+// given now. So is a model file taken out of its run.
+TEST_F(RunDirectoryTest, AModelWithoutASceneRecordIsRefused) {
   RunDirectory::create(dir).start(TrainConfig{}, cbox());
   std::ofstream(RunDirectory::model_path(dir)) << "x";
   fs::remove(RunDirectory::scene_path(dir));
   const auto other = scene_of(scenes / "y", {{"scene.xml", "<scene/>"}, {"meshes/a.obj", "v 0 0 1"}});
-  EXPECT_NO_THROW(RunDirectory::require_scene(dir, other)) << "runs from before scene records stay readable";
-  { RunDirectory::resume(dir, cbox()); }
-  EXPECT_TRUE(fs::exists(RunDirectory::scene_path(dir)));
-  EXPECT_THROW(RunDirectory::require_scene(dir, other), InputError);
+  for (const auto& scene : {cbox(), other}) {
+    try {
+      RunDirectory::require_scene(dir, scene);
+      ADD_FAILURE() << "a model without its scene record was adopted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("no scene record"));
+      EXPECT_THAT(e.what(), HasSubstr("scene.json"));
+    }
+    EXPECT_THROW(RunDirectory::resume(dir, scene), InputError);
+  }
+  EXPECT_FALSE(fs::exists(RunDirectory::scene_path(dir))) << "no record is made up for it";
+  const fs::path loose = dir.parent_path() / ("loose_" + dir.filename().string());
+  fs::create_directories(loose);
+  fs::copy_file(RunDirectory::model_path(dir), loose / "renamed.clr");
+  EXPECT_THROW(RunDirectory::require_scene(loose / "renamed.clr", cbox()), InputError) << "a model file out of its run";
+  fs::remove_all(loose);
+}
+
+// A checkpoint carries its scene's digest: copied into another run (whose record matches another scene) it is
+// refused; copied out of its run, alone, it is still checked, and read where the scene is its own.
+TEST_F(RunDirectoryTest, AModelCarriesItsScene) {
+  const auto other = scene_of(scenes / "y", {{"scene.xml", "<scene/>"}, {"meshes/a.obj", "v 0 0 1"}});
+  nn::Checkpoint c;
+  c.config_json = "{}";
+  c.rng_state = "1 scene " + cbox().digest;  // as RunDirectory writes it
+  c.tensors.emplace_back("mlp.params", std::vector<float>(4, 0.5f));
+  RunDirectory::create(dir).start(TrainConfig{}, other);
+  nn::write_checkpoint(RunDirectory::model_path(dir).string(), c);
+  try {
+    RunDirectory::require_scene(dir, other);
+    ADD_FAILURE() << "a model copied into another scene's run was adopted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("copied from another run"));
+  }
+  const fs::path loose = dir.parent_path() / ("loose_" + dir.filename().string());
+  fs::create_directories(loose);
+  fs::copy_file(RunDirectory::model_path(dir), loose / "model.clr");
+  EXPECT_NO_THROW(RunDirectory::require_scene(loose / "model.clr", cbox())) << "its own scene";
+  EXPECT_THROW(RunDirectory::require_scene(loose / "model.clr", other), InputError);
+  fs::remove_all(loose);
+}
+
+// The whole record is compared: a record whose file list was edited, or whose digest belongs to other files, is
+// refused, not matched by its top-level digest alone.
+TEST_F(RunDirectoryTest, TheWholeSceneRecordIsCompared) {
+  RunDirectory::create(dir).start(TrainConfig{}, cbox());
+  std::ofstream(RunDirectory::model_path(dir)) << "x";
+  nlohmann::json record;
+  std::ifstream(RunDirectory::scene_path(dir)) >> record;
+  ASSERT_GE(record["files"].size(), 1u);
+  record["files"].push_back({{"name", "meshes/extra.obj"}, {"digest", "0123"}});
+  std::ofstream(RunDirectory::scene_path(dir)) << record.dump();
+  try {
+    RunDirectory::require_scene(dir, cbox());
+    ADD_FAILURE() << "an edited record was matched by its digest";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("does not match the files it lists"));
+  }
+  // Two fingerprints with one digest but other files are not the same scene.
+  auto a = cbox(), b = cbox();
+  ASSERT_FALSE(b.files.empty());
+  b.files.back().digest = "ffff";
+  EXPECT_FALSE(a == b);
 }
 
 TEST_F(RunDirectoryTest, AMalformedSceneRecordNamesTheFile) {

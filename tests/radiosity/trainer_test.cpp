@@ -271,6 +271,7 @@ TEST_F(Training, LaggedGuideChangesOnlyTheGuidedDraw) {
     config.bsdf_fraction = c;
     config.guide_warmup = 0.0;
     TempRun fresh_run("lag0"), lagged_run("lag1");
+    config.guide_lag = 0;
     radiosity::Trainer fresh(ctx(), geometry, config, fresh_run.path, false);
     config.guide_lag = 1;
     radiosity::Trainer lagged(ctx(), geometry, config, lagged_run.path, false);
@@ -287,6 +288,29 @@ TEST_F(Training, LaggedGuideChangesOnlyTheGuidedDraw) {
     EXPECT_TRUE(has_before(lagged_run.path));
     EXPECT_FALSE(has_before(fresh_run.path));
   }
+}
+
+// The lagged guide is the default for new runs; a run written before it existed (no guide_lag in config.json) goes
+// on unlagged when resumed, as it was trained.
+TEST_F(Training, RunsWithoutAGuideLagResumeUnlagged) {
+  const auto scene = scene::load_scene(kScenes / "cornell-box.xml", {{"res", "16"}});
+  const geometry::Geometry geometry(scene);
+  TempRun run("no_lag_key");
+  auto config = small_config(2);
+  {
+    radiosity::Trainer fresh(ctx(), geometry, config, run.path, false);
+    EXPECT_EQ(fresh.config().guide_lag, 1);
+    fresh.run();
+  }
+  nlohmann::json saved;
+  std::ifstream(run.path / "config.json") >> saved;
+  saved.erase("guide_lag");
+  std::ofstream(run.path / "config.json") << saved.dump(2);
+  config.steps = 3;
+  radiosity::Trainer resumed(ctx(), geometry, config, run.path, true);
+  EXPECT_EQ(resumed.config().guide_lag, 0);
+  resumed.run();
+  EXPECT_EQ(resumed.steps_done(), 3u);
 }
 
 // The trainer's GPU-typed choices — batch 16384, the 512-wide N-Module, the GEMM plans and launch shapes of a GPU —

@@ -87,7 +87,18 @@ TEST_F(CameraPath, MalformedPathsAreRefusedByName) {
                                       {"to_world": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}]})",
        "mix mirrored"},
       {R"({"frames": 2, "keyframes": [{"origin": [1e13,0,0], "target": [0,0,1]}]})", "frame 0"},
-      {"[1, 2", "malformed"}};
+      {"[1, 2", "malformed"},
+      // Values of the wrong JSON type: an error naming the file (exit 2), never nlohmann's raw type_error.
+      {R"({"frames": 2, "interpolation": 3, "keyframes": [{"origin": [0,0,0], "target": [0,0,1]}]})",
+       "interpolation must be smooth or linear, got 3"},
+      {R"({"frames": 2, "interpolation": null, "keyframes": [{"origin": [0,0,0], "target": [0,0,1]}]})",
+       "interpolation must be"},
+      {R"({"frames": "2", "keyframes": [{"origin": [0,0,0], "target": [0,0,1]}]})", "frames must be"},
+      {R"({"frames": 2, "keyframes": [{"origin": "here", "target": [0,0,1]}]})", "origin must be 3 numbers"},
+      {R"({"frames": 2, "keyframes": [{"origin": [0,0,0], "target": [0,0,1], "up": {"y": 1}}]})", "up must be"},
+      {R"({"frames": 2, "keyframes": [{"to_world": "identity"}]})", "to_world must be 16 numbers"},
+      {R"({"frames": 2, "keyframes": {"a": 1}})", "keyframes must be a non-empty list"},
+      {R"({"frames": 2, "keyframes": [7]})", "keyframes[0] must be an object"}};
   for (const auto& [json, culprit] : cases) {
     try {
       read(json);

@@ -237,6 +237,9 @@ TEST_F(SweepCli, BadOptionsExitTwoNamingTheCulprit) {
   image::write_exr(dir / "small.exr", image::Image(7, 7));
   fs::create_directories(dir / "damaged");
   std::ofstream(dir / "damaged" / "results.csv") << "not,a,sweep\n";
+  // Rows without the record of what they were made with (sweep.json): never adopted under the settings given now.
+  fs::create_directories(dir / "unrecorded");
+  sweep::write_results(dir / "unrecorded" / "results.csv", {});
   const std::pair<std::string, std::string> cases[] = {
       {"sweep " + kBox + out + " --methods nr,foo", "foo"},
       {"sweep " + (dir / "missing.xml").string() + out, "missing.xml"},
@@ -249,6 +252,7 @@ TEST_F(SweepCli, BadOptionsExitTwoNamingTheCulprit) {
       {"sweep " + kBox + out + " --device nosuch", "nosuch"},
       {"sweep " + kBox, "--output"},
       {"sweep " + kBox + " -o " + (dir / "damaged").string(), "results.csv"},
+      {"sweep " + kBox + " -o " + (dir / "unrecorded").string(), "holds rows (results.csv) but no record"},
   };
   for (const auto& [args, culprit] : cases) {
     const auto r = run_cli(args);
@@ -257,6 +261,7 @@ TEST_F(SweepCli, BadOptionsExitTwoNamingTheCulprit) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
   }
   EXPECT_FALSE(fs::exists(dir / "bad" / "results.csv"));
+  EXPECT_FALSE(fs::exists(dir / "unrecorded" / "sweep.json")) << "a record was made up for rows made without one";
 }
 
 }  // namespace

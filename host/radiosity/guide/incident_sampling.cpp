@@ -18,7 +18,7 @@ void IncidentSampling::sample(const geometry::Geometry& geometry, const BatchSet
 
 void IncidentSampling::upload_normals(const TrainingBatch& batch) {
   const std::size_t M = batch.points;
-  const StageTimer timer(batch, &HostStageTimes::packing);
+  const StageTimer timer(batch, &HostStageTimes::packing, ctx_);
   normals_host_.resize(M * 3);
   for (std::size_t m = 0; m < M; ++m) {
     const glm::vec3 n = frame_normal(batch.surface[m].point.frame.n, batch.wo[m]);
@@ -98,7 +98,7 @@ void IncidentSampling::trace(const geometry::Geometry& geometry, const BatchSett
 
 void IncidentSampling::upload(const BatchSettings& settings, const TrainingBatch& batch) {
   const std::size_t M = batch.points, N = batch.samples;
-  const StageTimer timer(batch, &HostStageTimes::uploads);
+  const StageTimer timer(batch, &HostStageTimes::uploads, ctx_);
   put(rows_up_, incident_rows, batch.incident_rows);
   put(weight_up_, weight, batch.weight);
   put(emitted_up_, emitted, batch.emitted);

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "common/terminal_text.hpp"
 #include "scene/named_ior.hpp"
 
 namespace clr::scene::loader {
@@ -52,7 +53,8 @@ Microfacet read_microfacet(const Props& p, bool textured) {
 void ignore_roughness(const Props& p) {
   for (const char* name : {"alpha", "alpha_u", "alpha_v", "distribution"})
     if (const Node* n = p.find(name))
-      std::fprintf(stderr, "%s: warning: a smooth %s BSDF ignores '%s'\n", n->where().c_str(), p.type().c_str(), name);
+      std::fprintf(stderr, "%s: warning: a smooth %s BSDF ignores '%s'\n", clr::terminal_safe(n->where()).c_str(),
+                   clr::terminal_safe(p.type()).c_str(), name);
 }
 
 }  // namespace clr::scene::loader

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/terminal_text.hpp"
 #include "scene/bsdfs.hpp"
 #include "scene/loader/plugin.hpp"
 
@@ -59,7 +60,7 @@ Texture at_most_one(const Props& p, const std::string& name, const Texture& t) {
   const float m = max_component(t.mean());
   if (m <= 1) return t;
   std::fprintf(stderr, "%s: warning: '%s' above 1 scaled down to conserve energy (as Mitsuba 0.6)\n",
-               p.node.where().c_str(), name.c_str());
+               clr::terminal_safe(p.node.where()).c_str(), name.c_str());
   return Texture(t.mean() / m);
 }
 }  // namespace

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/terminal_text.hpp"
 #include "scene/bsdfs.hpp"
 #include "scene/loader/plugin.hpp"
 
@@ -65,7 +66,7 @@ std::shared_ptr<const Bsdf> read_ward(Context& ctx, const Props& p) {
     const float m = max_component(t.mean());
     if (t.is_constant() && m > 1 && p.boolean("ensure_energy_conservation", true)) {
       std::fprintf(stderr, "%s: warning: '%s' above 1 scaled down to conserve energy (as Mitsuba 0.6)\n",
-                   p.node.where().c_str(), name);
+                   clr::terminal_safe(p.node.where()).c_str(), name);
       t = Texture(t.mean() / m);
     }
     return t;

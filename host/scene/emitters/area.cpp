@@ -5,8 +5,7 @@
 namespace clr::scene::loader {
 EmitterPlugin read_area(Context& ctx, const Props& p) {
   const Texture radiance = ctx.texture(p, "radiance", Rgb(1.0f));
-  const Rgb mean = radiance.mean();
-  if (!(mean.x >= 0 && mean.y >= 0 && mean.z >= 0)) p.node.fail("radiance must be non-negative");
+  require_non_negative(p, "radiance", radiance);
   EmitterPlugin e;
   e.area = radiance;
   return e;

@@ -4,7 +4,7 @@
 namespace clr::scene::loader {
 EmitterPlugin read_constant(Context&, const Props& p) {
   const Rgb radiance = p.color("radiance", Rgb(1.0f));
-  if (!(radiance.x >= 0 && radiance.y >= 0 && radiance.z >= 0)) p.node.fail("radiance must be non-negative");
+  require_non_negative(p, "radiance", radiance);
   EmitterPlugin e;
   e.environment = std::make_unique<Environment>(Environment::constant(radiance));
   return e;

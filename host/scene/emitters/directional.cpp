@@ -11,7 +11,7 @@ EmitterPlugin read_directional(Context&, const Props& p) {
   if (!(glm::length(d) > 0)) p.node.fail("the direction is zero");
   l.direction = glm::normalize(d);
   l.intensity = p.color("irradiance", Rgb(1.0f));
-  if (!(l.intensity.x >= 0 && l.intensity.y >= 0 && l.intensity.z >= 0)) p.node.fail("irradiance must be non-negative");
+  require_non_negative(p, "irradiance", l.intensity);
   EmitterPlugin e;
   e.delta = l;
   return e;

@@ -40,6 +40,9 @@ Environment Environment::envmap(const std::filesystem::path& path, float scale, 
       const Rgb c = scale * Rgb(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]);
       if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
         throw InputError(path.string() + ": environment map has non-finite pixels");
+      if (!(c.x >= 0 && c.y >= 0 && c.z >= 0))
+        throw InputError(path.string() + ": environment map has a negative pixel at (" + std::to_string(x) + ", " +
+                         std::to_string(y) + ")");
       e.pixels_[i] = c;
       e.weights_[i] = std::fmax(luminance(c), 0.0f) * sin_theta;
       total += e.weights_[i];

@@ -6,9 +6,10 @@ namespace clr::scene::loader {
 EmitterPlugin read_envmap(Context& ctx, const Props& p) {
   const auto file = ctx.file(p, "filename", "environment map");
   EmitterPlugin e;
+  const float scale = p.number("scale", 1.0f);
+  require_non_negative(p, "scale", Rgb(scale));
   try {
-    e.environment =
-        std::make_unique<Environment>(Environment::envmap(file, p.number("scale", 1.0f), p.transform("to_world")));
+    e.environment = std::make_unique<Environment>(Environment::envmap(file, scale, p.transform("to_world")));
   } catch (const InputError& err) {
     p.node.fail(err.what());
   }

@@ -8,7 +8,7 @@ EmitterPlugin read_point(Context&, const Props& p) {
   l.kind = DeltaLight::Kind::point;
   l.position = p.has("position") ? p.vector3("position", Vec3(0.0f)) : Vec3(p.transform("to_world")[3]);
   l.intensity = p.color("intensity", Rgb(1.0f));
-  if (!(l.intensity.x >= 0 && l.intensity.y >= 0 && l.intensity.z >= 0)) p.node.fail("intensity must be non-negative");
+  require_non_negative(p, "intensity", l.intensity);
   EmitterPlugin e;
   e.delta = l;
   return e;

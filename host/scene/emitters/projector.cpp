@@ -8,9 +8,9 @@ EmitterPlugin read_projector(Context& ctx, const Props& p) {
   l.kind = DeltaLight::Kind::projector;
   if (!p.has("irradiance")) p.node.fail("missing property 'irradiance'");
   l.texture = ctx.texture(p, "irradiance", Rgb(1.0f));
-  const Rgb mean = l.texture->mean();
-  if (!(mean.x >= 0 && mean.y >= 0 && mean.z >= 0)) p.node.fail("irradiance must be non-negative");
+  require_non_negative(p, "irradiance", *l.texture);
   l.intensity = Rgb(p.number("scale", 1.0f));
+  require_non_negative(p, "scale", l.intensity);
   const glm::ivec2 size = l.texture->resolution();
   l.projection.width = size.x;
   l.projection.height = size.y;

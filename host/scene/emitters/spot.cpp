@@ -12,13 +12,16 @@ EmitterPlugin read_spot(Context& ctx, const Props& p) {
   l.position = Vec3(to_world[3]);
   l.to_local = glm::inverse(to_world);
   l.intensity = p.color("intensity", Rgb(1.0f));
-  if (!(l.intensity.x >= 0 && l.intensity.y >= 0 && l.intensity.z >= 0)) p.node.fail("intensity must be non-negative");
+  require_non_negative(p, "intensity", l.intensity);
   const float cutoff = p.number("cutoff_angle", 20.0f), beam = p.number("beam_width", 0.75f * cutoff);
   if (!(cutoff > 0 && cutoff < 90)) p.node.fail("cutoff_angle must lie in (0, 90) degrees");
   if (!(beam >= 0 && beam <= cutoff)) p.node.fail("beam_width must lie in [0, cutoff_angle]");
   l.cutoff = cutoff * kPi / 180.0f;
   l.beam_width = beam * kPi / 180.0f;
-  if (p.has("texture")) l.texture = ctx.texture(p, "texture", Rgb(1.0f));
+  if (p.has("texture")) {
+    l.texture = ctx.texture(p, "texture", Rgb(1.0f));
+    require_non_negative(p, "texture", *l.texture);
+  }
   EmitterPlugin e;
   e.delta = l;
   return e;

@@ -4,11 +4,13 @@
 // wrong.
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <set>
 #include <tuple>
 
 #include "common/digest.hpp"
 #include "common/error.hpp"
+#include "common/terminal_text.hpp"
 #include "image/image.hpp"
 #include "scene/bsdfs.hpp"
 #include "scene/loader/plugin.hpp"
@@ -25,6 +27,37 @@ using AttributeUses = std::map<std::string, std::string>;
 
 class Loader final : public loader::Context {
   static constexpr std::size_t kMaxFiles = 1024;
+  // The loader recurses through <include>s, BSDFs nested in BSDFs and <ref>s to plugins declared further down
+  // (each built where it is first referenced): XML nesting alone is bounded by the parser, but a chain of forward
+  // references is not, and 10 000 of them overflowed the stack. Real scenes nest a handful.
+  static constexpr int kMaxBuildDepth = 128;
+  // A BSDF evaluates the BSDFs it nests, and a referenced BSDF may be nested many times over: a chain of blends
+  // each nesting the previous one twice costs 2^n evaluations per sample. Both the depth and the number of BSDFs
+  // an evaluation may visit are bounded.
+  static constexpr int kMaxBsdfDepth = 32;
+  static constexpr std::size_t kMaxBsdfVisits = 1024;
+  // Triangles the whole scene may hold, instances' copies included: each costs its mesh and Embree's structures
+  // (more than 100 bytes), so 2^25 is several GiB. Counted as shapes are built, so that an instance bomb (a large
+  // group instanced thousands of times) is refused before its copies are made, naming the element that crossed it.
+  static constexpr std::size_t kMaxSceneTriangles = std::size_t(1) << 25;
+
+  // Counts one level of the loader's recursion while alive; refuses (naming the element) beyond kMaxBuildDepth.
+  class Deeper {
+   public:
+    Deeper(int& depth, const Node& n) : depth_(depth) {
+      if (++depth_ > kMaxBuildDepth) {
+        --depth_;
+        n.fail("plugins nested deeper than " + std::to_string(kMaxBuildDepth) +
+               " levels (through <include>s, nested BSDFs and <ref>s to plugins declared further down)");
+      }
+    }
+    ~Deeper() { --depth_; }
+    Deeper(const Deeper&) = delete;
+    Deeper& operator=(const Deeper&) = delete;
+
+   private:
+    int& depth_;
+  };
 
  public:
   explicit Loader(const std::map<std::string, std::string>& parameters) : params_(parameters), given_(parameters) {}
@@ -52,8 +85,14 @@ class Loader final : public loader::Context {
   Texture texture(const Props& p, const std::string& name, const Texture& fallback) override {
     const Node* n = p.find(name);
     if (!n) return fallback;
-    if (n->tag() == "texture" || n->tag() == "ref") return texture(*n);
-    return n->color();
+    const Texture t = n->tag() == "texture" || n->tag() == "ref" ? texture(*n) : Texture(n->color());
+    // What scales light (reflectances, transmittances, a base colour, a blend's weight, a mask's opacity) must
+    // be non-negative at every texel: a negative texel would emit negative light wherever it is seen. Roughness,
+    // normal and bump maps are checked by their readers.
+    if (name.ends_with("reflectance") || name.ends_with("transmittance") || name == "base_color" || name == "weight" ||
+        name == "opacity")
+      require_non_negative(p, name, t);
+    return t;
   }
 
   Texture texture(const Node& n) override {
@@ -91,6 +130,7 @@ class Loader final : public loader::Context {
       build_declared(n.attr("id"));
       if (bsdfs_.count(n.attr("id"))) out.push_back(bsdf_reference(*p.find(name)));
     }
+    if (!nesting_.empty()) nesting_.back().insert(nesting_.back().end(), out.begin(), out.end());
     return out;
   }
 
@@ -111,6 +151,8 @@ class Loader final : public loader::Context {
   void load_file(const std::filesystem::path& path, const Node* included_from) {
     const auto canonical = std::filesystem::weakly_canonical(path);
     if (!including_.insert(canonical).second) included_from->fail("recursive include of '" + path.string() + "'");
+    std::optional<Deeper> deeper;
+    if (included_from) deeper.emplace(depth_, *included_from);
     // Files that each include the next one twice are loaded 2^depth times without any recursion; every parsed
     // file stays in memory (messages point into it). Real scenes include a handful.
     if (included_from && sources_.size() >= kMaxFiles)
@@ -193,6 +235,7 @@ class Loader final : public loader::Context {
     const auto it = declared_.find(id);
     if (it == declared_.end() || !built_.insert(it->second.xml.internal_object()).second) return;
     const Node n = it->second;
+    const Deeper deeper(depth_, n);
     const std::string t = n.tag();
     if (t == "bsdf")
       bsdf(n);
@@ -224,7 +267,8 @@ class Loader final : public loader::Context {
         if (std::filesystem::is_directory(folder, ec))
           search_folders_.push_back(folder);
         else
-          std::fprintf(stderr, "%s: warning: folder '%s' not found\n", c.where().c_str(), folder.string().c_str());
+          std::fprintf(stderr, "%s: warning: folder '%s' not found\n", clr::terminal_safe(c.where()).c_str(),
+                       clr::terminal_safe(folder.string()).c_str());
       } else if (t == "bsdf") {
         bsdf(c);
       } else if (t == "texture") {
@@ -281,6 +325,7 @@ class Loader final : public loader::Context {
   }
 
   std::shared_ptr<const Bsdf> bsdf(const Node& n) {
+    const Deeper deeper(depth_, n);
     register_id(n, "bsdf");
     const Props p(n);
     const std::string type = p.type();
@@ -288,7 +333,23 @@ class Loader final : public loader::Context {
     const auto reader = loader::bsdf_reader(type);
     if (!reader) n.fail("unsupported BSDF type '" + type + "'");
     AttributeUses uses;
+    nesting_.emplace_back();
     const auto b = gathering_uses(uses, [&] { return reader(*this, p); });
+    BsdfExtent extent;
+    for (const auto& nested : nesting_.back()) {
+      const auto it = extents_.find(nested.get());
+      const BsdfExtent e = it == extents_.end() ? BsdfExtent{} : it->second;
+      extent.depth = std::max(extent.depth, e.depth + 1);
+      extent.visits += e.visits;
+    }
+    nesting_.pop_back();
+    if (extent.depth > kMaxBsdfDepth)
+      n.fail("BSDFs nested " + std::to_string(extent.depth) + " deep (through references), more than " +
+             std::to_string(kMaxBsdfDepth));
+    if (extent.visits > kMaxBsdfVisits)
+      n.fail("the BSDF nests " + std::to_string(extent.visits) + " BSDFs in all (references counted each time), " +
+             "more than " + std::to_string(kMaxBsdfVisits) + ": each evaluation would visit every one");
+    extents_[b.get()] = extent;
     bsdf_uses_[b.get()] = uses;
     p.check_all_used();
     if (n.has("id")) bsdfs_[n.attr("id")] = b;
@@ -307,6 +368,14 @@ class Loader final : public loader::Context {
     if (type == "shapegroup") return shapegroup(n);
     if (type == "instance") return instance(n);
     scene_.shapes.push_back(build_shape(n));
+    count_triangles(n, scene_.shapes.back().mesh.triangles.size());
+  }
+
+  void count_triangles(const Node& n, std::size_t added) {
+    triangles_ += added;
+    if (triangles_ > kMaxSceneTriangles)
+      n.fail("the scene reaches " + std::to_string(triangles_) + " triangles with this shape, more than the " +
+             std::to_string(kMaxSceneTriangles) + " it may hold (instances count each copy)");
   }
 
   // Mitsuba's `shapegroup`: shapes that are not rendered themselves, only through `instance`s of the group.
@@ -321,6 +390,7 @@ class Loader final : public loader::Context {
       if (type == "shapegroup" || type == "instance") o.fail("shapegroups do not nest (as in Mitsuba)");
       group.push_back(build_shape(o));
       if (group.back().is_emitter()) o.fail("a shape in a shapegroup cannot emit (as in Mitsuba)");
+      count_triangles(o, group.back().mesh.triangles.size());
     }
     p.check_all_used();
     if (group.empty()) n.fail("the shapegroup holds no shape");
@@ -349,6 +419,9 @@ class Loader final : public loader::Context {
     check_to_world(n, to_world);
     p.check_all_used();
     const std::string id = n.attr_or("id", "instance " + std::to_string(scene_.shapes.size()));
+    std::size_t copies = 0;
+    for (const Shape& member : group->second) copies += member.mesh.triangles.size();
+    count_triangles(n, copies);
     for (const Shape& member : group->second) {
       Shape s = member;
       s.id = id + "/" + member.id;
@@ -545,8 +618,17 @@ class Loader final : public loader::Context {
   std::map<std::string, std::string> ids_;  // id → kind of element
   std::map<std::string, std::shared_ptr<const Bsdf>> bsdfs_;
   std::map<std::string, Texture> textures_;
-  std::vector<AttributeUses> attribute_scopes_;     // the materials and emitters being built, innermost last
-  std::map<const Bsdf*, AttributeUses> bsdf_uses_;  // what each material's textures read of a mesh
+  std::vector<AttributeUses> attribute_scopes_;  // the materials and emitters being built, innermost last
+  int depth_ = 0;                                // the loader's recursion (Deeper)
+  std::size_t triangles_ = 0;                    // in the scene's shapes, groups and instances so far
+  // How deep a BSDF's nesting goes and how many BSDFs one evaluation visits (itself included).
+  struct BsdfExtent {
+    int depth = 1;
+    std::size_t visits = 1;
+  };
+  std::map<const Bsdf*, BsdfExtent> extents_;
+  std::vector<std::vector<std::shared_ptr<const Bsdf>>> nesting_;  // the BSDFs nested by those being built
+  std::map<const Bsdf*, AttributeUses> bsdf_uses_;                 // what each material's textures read of a mesh
   std::map<std::string, Texture> area_emitters_;
   std::map<std::string, std::vector<Shape>> groups_;  // shapegroups by id
   std::map<std::tuple<std::string, bool, float>, std::shared_ptr<const Bitmap>> bitmaps_;

@@ -52,6 +52,10 @@ class Props {
   mutable std::set<std::string> used;
 };
 
+// Light and reflectance are never negative nor non-finite: InputError naming the plugin and `property` unless
+// `value` is finite and non-negative in every channel (a texture at every texel, not only on average).
+void require_non_negative(const Props& p, const std::string& property, const Texture& value);
+
 // An emitter plugin's result: an area emitter's radiance (placed on the shape that holds or references it) or
 // light from infinitely far away.
 struct EmitterPlugin {

@@ -1,6 +1,8 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
+#include "common/terminal_text.hpp"
 #include "scene/loader/plugin.hpp"
 
 namespace clr::scene::loader {
@@ -45,8 +47,8 @@ void Props::check_all_used() const {
     if (used.count(name)) continue;
     if (n.source->version_major >= 2)
       n.fail("unused property '" + name + "' (misspelt, or not supported by this plugin)");
-    std::fprintf(stderr, "%s: warning: unused property '%s' ignored, as Mitsuba 0.x did\n", n.where().c_str(),
-                 name.c_str());
+    std::fprintf(stderr, "%s: warning: unused property '%s' ignored, as Mitsuba 0.x did\n",
+                 clr::terminal_safe(n.where()).c_str(), clr::terminal_safe(name).c_str());
     used.insert(name);
   }
 }
@@ -106,6 +108,19 @@ std::shared_ptr<const Bsdf> single_nested_bsdf(Context& ctx, const Props& p) {
   auto nested = ctx.nested_bsdfs(p);
   if (nested.size() != 1) p.node.fail("expects exactly one nested BSDF");
   return nested.front();
+}
+
+void require_non_negative(const Props& p, const std::string& property, const Texture& value) {
+  const Rgb lo = value.minimum(), mean = value.mean();
+  const auto finite = [](const Rgb& c) { return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z); };
+  if (!finite(mean) || !finite(lo))
+    p.node.fail(property + " must be non-negative and finite (it overflows to infinity)");
+  if (!(lo.x >= 0 && lo.y >= 0 && lo.z >= 0)) {
+    char smallest[32];
+    std::snprintf(smallest, sizeof smallest, "%g", double(std::min({lo.x, lo.y, lo.z})));
+    p.node.fail(property + " must be non-negative and finite" +
+                (value.is_constant() ? std::string(" (it is ") : std::string(" (a texel holds ")) + smallest + ")");
+  }
 }
 
 }  // namespace clr::scene::loader

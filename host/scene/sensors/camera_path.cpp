@@ -97,7 +97,20 @@ Vec3 catmull_rom(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3,
 
 }  // namespace
 
+// read_camera_path without its net for nlohmann's exceptions.
+std::vector<Camera> read_camera_path_checked(const std::filesystem::path& file, const Camera& sensor);
+
 std::vector<Camera> read_camera_path(const std::filesystem::path& file, const Camera& sensor) {
+  // Every value's type is checked where it is read; a conversion this misses (nlohmann's type_error) is still the
+  // file's fault, and is named as such rather than ending as a raw library exception (exit 1).
+  try {
+    return read_camera_path_checked(file, sensor);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file.string() + ": not a camera path (" + clip(e.what(), 200) + ")");
+  }
+}
+
+std::vector<Camera> read_camera_path_checked(const std::filesystem::path& file, const Camera& sensor) {
   const nlohmann::json j = read_json_file(file, "camera path");
   const std::string name = file.string();
   if (!j.is_object()) throw InputError(name + ": a camera path is a JSON object");
@@ -108,6 +121,8 @@ std::vector<Camera> read_camera_path(const std::filesystem::path& file, const Ca
       j.at("frames").get<long long>() > 100000)
     throw InputError(name + ": frames must be an integer in 1 – 100000");
   const int frames = j.at("frames").get<int>();
+  if (j.contains("interpolation") && !j.at("interpolation").is_string())
+    throw InputError(name + ": interpolation must be smooth or linear, got " + clip(j.at("interpolation").dump()));
   const std::string interpolation = j.value("interpolation", std::string("smooth"));
   if (interpolation != "smooth" && interpolation != "linear")
     throw InputError(name + ": interpolation must be smooth or linear, got '" + clip(interpolation) + "'");

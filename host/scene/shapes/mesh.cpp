@@ -46,7 +46,7 @@ void Mesh::flip() {
 void Mesh::compute_vertex_normals() {
   normals.assign(positions.size(), Vec3(0.0f));
   for (const auto& t : triangles) {
-    // validate() names an index out of range once the loader has the mesh whole; until then it must not be used.
+    // The file readers refuse an index out of range (check_structure); a mesh built in code may still hold one.
     if (std::size_t(std::max({t.x, t.y, t.z})) >= positions.size()) continue;
     const Vec3 p[3] = {positions[t.x], positions[t.y], positions[t.z]};
     const Vec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
@@ -65,6 +65,8 @@ void Mesh::compute_vertex_normals() {
 }
 
 void Mesh::compute_crease_normals(float max_angle_degrees) {
+  // Every index below is used unchecked: the corners' positions, uvs and attributes are copied by it.
+  check_structure("mesh");
   // Corners at the same position share a normal across an edge only when their faces' normals lie within the
   // angle; every corner becomes its own vertex (uvs kept) holding the angle-weighted mean of those faces.
   const std::size_t nt = triangles.size();
@@ -82,12 +84,23 @@ void Mesh::compute_crease_normals(float max_angle_degrees) {
       corner_weight[f][i] = std::acos(std::clamp(glm::dot(e1, e2) / (glm::length(e1) * glm::length(e2)), -1.0f, 1.0f));
     }
   }
-  // Corners grouped by exact position (vertices a file duplicated for their uvs meet here again).
-  std::map<std::tuple<float, float, float>, std::vector<std::uint32_t>> at;  // position → corners (3f + i)
+  // Corners grouped by exact position (vertices a file duplicated for their uvs meet here again), and within a
+  // position by exact face normal, their angles summed: every corner is then compared with the distinct normals
+  // around it, not with every corner there, so a fan of many coplanar faces about one vertex costs its size, not
+  // its square.
+  using Key = std::tuple<float, float, float>;
+  struct Normals {
+    std::vector<std::pair<Vec3, float>> weighted;  // distinct face normal → summed corner angle
+    std::map<Key, std::size_t> index;              // face normal → its place in `weighted`
+  };
+  std::map<Key, Normals> at;  // position → the normals of the faces meeting there
   for (std::size_t f = 0; f < nt; ++f)
     for (int i = 0; i < 3; ++i) {
       const Vec3 q = positions[triangles[f][i]];
-      at[{q.x, q.y, q.z}].push_back(std::uint32_t(3 * f + std::size_t(i)));
+      Normals& here = at[{q.x, q.y, q.z}];
+      const auto [slot, added] = here.index.try_emplace({face[f].x, face[f].y, face[f].z}, here.weighted.size());
+      if (added) here.weighted.emplace_back(face[f], 0.0f);
+      here.weighted[slot->second].second += corner_weight[f][i];
     }
   const float cos_max = std::cos(max_angle_degrees * kPi / 180.0f);
   Mesh out;
@@ -110,16 +123,44 @@ void Mesh::compute_crease_normals(float max_angle_degrees) {
         }
       out.triangles[f][i] = c;
       Vec3 sum(0.0f);
-      for (const std::uint32_t o : at[{positions[v].x, positions[v].y, positions[v].z}])
-        if (glm::dot(face[o / 3], face[f]) >= cos_max) sum += face[o / 3] * corner_weight[o / 3][int(o % 3)];
+      for (const auto& [normal, weight] : at[{positions[v].x, positions[v].y, positions[v].z}].weighted)
+        if (glm::dot(normal, face[f]) >= cos_max) sum += normal * weight;
       const float len = glm::length(sum);
       out.normals[c] = len > 0 ? sum / len : (glm::length(face[f]) > 0 ? face[f] : Vec3(0, 0, 1));
     }
   *this = std::move(out);
 }
 
+void Mesh::check_structure(const std::string& what) const {
+  const std::size_t n = positions.size();
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      if (triangles[i][c] >= n)
+        throw InputError(what + ": triangle " + std::to_string(i) + " has vertex index " +
+                         std::to_string(triangles[i][c]) + ": index out of range (the mesh has " + std::to_string(n) +
+                         " vertices)");
+  if (!normals.empty() && normals.size() != n)
+    throw InputError(what + ": " + std::to_string(normals.size()) + " vertex normals for " + std::to_string(n) +
+                     " vertices");
+  if (!uvs.empty() && uvs.size() != n)
+    throw InputError(what + ": " + std::to_string(uvs.size()) + " texture coordinates for " + std::to_string(n) +
+                     " vertices");
+  for (const auto& a : attributes) {
+    const std::size_t elements = a.per_face() ? triangles.size() : n;
+    if (a.channels < 1 || a.values.size() != elements * std::size_t(a.channels))
+      throw InputError(what + ": mesh attribute '" + a.name + "' holds " + std::to_string(a.values.size()) +
+                       " values, not " + std::to_string(a.channels) + " for each of the " + std::to_string(elements) +
+                       (a.per_face() ? " faces" : " vertices"));
+  }
+  for (std::size_t i = 0; i < attributes.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (attributes[i].name == attributes[j].name)
+        throw InputError(what + ": mesh attribute '" + attributes[i].name + "' is defined twice");
+}
+
 void Mesh::validate(const std::string& what) const {
   if (triangles.empty()) throw InputError(what + ": mesh has no triangles");
+  check_structure(what);
   for (std::size_t i = 0; i < positions.size(); ++i)
     if (!std::isfinite(positions[i].x) || !std::isfinite(positions[i].y) || !std::isfinite(positions[i].z))
       throw InputError(what + ": vertex " + std::to_string(i) + " is not finite (NaN geometry)");
@@ -132,16 +173,6 @@ void Mesh::validate(const std::string& what) const {
       throw InputError(what + ": a vertex normal is not finite");
   for (const auto& uv : uvs)
     if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) throw InputError(what + ": a texture coordinate is not finite");
-  for (const auto& t : triangles)
-    if (t.x >= positions.size() || t.y >= positions.size() || t.z >= positions.size())
-      throw InputError(what + ": triangle index out of range");
-  for (const auto& a : attributes) {
-    const std::size_t elements = a.per_face() ? triangles.size() : positions.size();
-    if (a.channels < 1 || a.values.size() != elements * std::size_t(a.channels))
-      throw InputError(what + ": mesh attribute '" + a.name + "' holds " + std::to_string(a.values.size()) +
-                       " values, not " + std::to_string(a.channels) + " for each of the " + std::to_string(elements) +
-                       (a.per_face() ? " faces" : " vertices"));
-  }
 }
 
 double Mesh::area() const {

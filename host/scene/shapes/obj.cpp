@@ -109,6 +109,7 @@ Mesh load_obj(const std::filesystem::path& path) {
   }
   if (!has_normals) m.normals.clear();
   if (!has_uvs) m.uvs.clear();
+  m.check_structure(path.string());
   return m;
 }
 

@@ -5,6 +5,7 @@
 // Other elements are skipped.
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -137,6 +138,10 @@ Mesh load_ply(const std::filesystem::path& path) {
       Element e;
       words >> e.name >> e.count;
       if (!words) throw InputError(path.string() + ": malformed PLY element line '" + line + "'");
+      // A second 'vertex' element would append vertices that the first's faces never meant, and a second
+      // 'face' its triangles and attributes twice over.
+      for (const auto& other : elements)
+        if (other.name == e.name) throw InputError(path.string() + ": PLY element '" + e.name + "' is declared twice");
       elements.push_back(e);
     } else if (word == "property") {
       if (elements.empty()) throw InputError(path.string() + ": PLY property before any element");
@@ -147,6 +152,10 @@ Mesh load_ply(const std::filesystem::path& path) {
       if (!words) throw InputError(path.string() + ": malformed PLY property line '" + line + "'");
       type_size(p.type, path);
       if (!p.count_type.empty()) type_size(p.count_type, path);
+      for (const auto& other : elements.back().properties)
+        if (other.name == p.name)
+          throw InputError(path.string() + ": PLY property '" + p.name + "' of element '" + elements.back().name +
+                           "' is declared twice");
       elements.back().properties.push_back(p);
     } else if (word != "comment" && word != "obj_info" && !word.empty()) {
       throw InputError(path.string() + ": unexpected PLY header line '" + line + "'");
@@ -199,8 +208,12 @@ Mesh load_ply(const std::filesystem::path& path) {
         list.resize(std::size_t(count));
         for (auto& x : list) x = reader.read(prop.type);
         if (face && (prop.name == "vertex_indices" || prop.name == "vertex_index")) {
-          for (double x : list)
+          for (double x : list) {
             if (!(x >= 0 && x < 4294967295.0)) throw InputError(path.string() + ": PLY face index out of range");
+            // An index stored as a float or written with a fraction would be cut to another vertex's index.
+            if (x != std::floor(x))
+              throw InputError(path.string() + ": PLY face index " + std::to_string(x) + " is not a whole number");
+          }
           for (std::size_t k = 2; k < list.size(); ++k)
             m.triangles.push_back({std::uint32_t(list[0]), std::uint32_t(list[k - 1]), std::uint32_t(list[k])});
         }
@@ -218,6 +231,7 @@ Mesh load_ply(const std::filesystem::path& path) {
             m.attributes[first_attribute + k].values.push_back(float(values[p]));
     }
   }
+  m.check_structure(path.string());
   return m;
 }
 

@@ -4,6 +4,7 @@
 // file ends with the shapes' offsets (uint64 in v4, uint32 in v3) and a uint32 count.
 #include <zlib.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -30,6 +31,7 @@ class Inflated {
   }
   float real(bool dbl) { return dbl ? float(get<double>()) : get<float>(); }
   std::uint64_t remaining() const { return data_.size() - pos_; }
+  void skip(std::uint64_t n) { pos_ += std::size_t(std::min<std::uint64_t>(n, remaining())); }
   void skip_string() {
     while (get<char>() != 0) {
     }
@@ -41,7 +43,10 @@ class Inflated {
   std::size_t pos_ = 0;
 };
 
-std::vector<unsigned char> inflate_at(const std::string& file, std::size_t offset, const std::string& what) {
+// Inflates the stream at `offset`, stopping once `limit` bytes are out: a shape's header says how much data it has,
+// and a stream that inflates to far more (a zlib bomb: 1 MB of it inflates to 1 GB) is never inflated beyond that.
+std::vector<unsigned char> inflate_at(const std::string& file, std::size_t offset, const std::string& what,
+                                      std::uint64_t limit) {
   z_stream z{};
   if (inflateInit(&z) != Z_OK) throw std::runtime_error("zlib: inflateInit failed");
   z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(file.data() + offset));
@@ -58,7 +63,7 @@ std::vector<unsigned char> inflate_at(const std::string& file, std::size_t offse
       throw InputError(what + ": corrupt compressed data");
     }
     out.insert(out.end(), chunk, chunk + (sizeof chunk - z.avail_out));
-  } while (rc != Z_STREAM_END);
+  } while (rc != Z_STREAM_END && out.size() < limit);
   inflateEnd(&z);
   return out;
 }
@@ -95,18 +100,27 @@ Mesh load_serialized(const std::filesystem::path& path, int shape_index) {
                                           : read_at(table + 4 * std::size_t(shape_index), std::uint32_t{});
   if (offset + 4 >= file.size()) throw InputError(what + ": corrupt shape offset table");
 
-  Inflated s(inflate_at(file, offset + 4, what), what);
-  const auto flags = s.get<std::uint32_t>();
-  if (version == 4) s.skip_string();
-  const auto nv = s.get<std::uint64_t>(), nt = s.get<std::uint64_t>();
+  // The header first (flags, a name, the counts), then as much data as the counts call for and no more.
+  constexpr std::uint64_t kHeaderBytes = 1 << 16;
+  auto head = inflate_at(file, offset + 4, what, kHeaderBytes);
+  Inflated h(head, what);
+  const auto flags = h.get<std::uint32_t>();
+  if (version == 4) h.skip_string();
+  const auto nv = h.get<std::uint64_t>(), nt = h.get<std::uint64_t>();
   if (nv > (1ull << 31) || nt > (1ull << 31)) throw InputError(what + ": implausible vertex or triangle count");
   const bool dbl = (flags & kDouble) != 0;
+  const std::uint64_t header_size = head.size() - h.remaining();
   // The counts must fit the data actually inflated before anything is sized by them: a 100-byte file claiming
   // 2^31 vertices would otherwise allocate 24 GiB.
   const bool wide = nv > 0xffffffffull;
   const std::uint64_t real = dbl ? 8 : 4, per_vertex = real * (3 + (flags & kNormals ? 3 : 0) + (flags & kUvs ? 2 : 0) +
                                                                (flags & kColors ? 3 : 0));
-  if (nv * per_vertex + nt * 3 * (wide ? 8 : 4) > s.remaining())
+  const std::uint64_t data = nv * per_vertex + nt * 3 * (wide ? 8 : 4);
+  Inflated s(
+      head.size() >= header_size + data ? std::move(head) : inflate_at(file, offset + 4, what, header_size + data),
+      what);
+  s.skip(header_size);
+  if (data > s.remaining())
     throw InputError(what + ": shape claims " + std::to_string(nv) + " vertices and " + std::to_string(nt) +
                      " triangles, more than its " + std::to_string(s.remaining()) + " bytes of data hold");
   Mesh m;
@@ -130,7 +144,15 @@ Mesh load_serialized(const std::filesystem::path& path, int shape_index) {
   if (flags & kFaceNormals) m.normals.clear();
   m.triangles.resize(nt);
   for (auto& t : m.triangles)
-    for (int c = 0; c < 3; ++c) t[c] = wide ? std::uint32_t(s.get<std::uint64_t>()) : s.get<std::uint32_t>();
+    for (int c = 0; c < 3; ++c) {
+      // Checked before narrowing: a 64-bit index past the vertices would otherwise wrap onto one of them.
+      const std::uint64_t index = wide ? s.get<std::uint64_t>() : s.get<std::uint32_t>();
+      if (index >= nv)
+        throw InputError(what + ": triangle vertex index " + std::to_string(index) +
+                         " is out of range (the shape has " + std::to_string(nv) + " vertices)");
+      t[c] = std::uint32_t(index);
+    }
+  m.check_structure(what);
   return m;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "common/error.hpp"
 #include "image/image.hpp"
@@ -41,12 +42,14 @@ std::shared_ptr<const Bitmap> Bitmap::load(const std::filesystem::path& path, bo
   bmp->height = img.height;
   bmp->texels.resize(std::size_t(img.width) * std::size_t(img.height));
   glm::dvec3 sum(0.0);
+  bmp->minimum = Rgb(std::numeric_limits<float>::infinity());
   for (std::size_t i = 0; i < bmp->texels.size(); ++i) {
     bmp->texels[i] = Rgb(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]);
     // An EXR may hold NaN or infinities; as a reflectance they would poison every path that touches them.
     if (!std::isfinite(bmp->texels[i].x) || !std::isfinite(bmp->texels[i].y) || !std::isfinite(bmp->texels[i].z))
       throw InputError(path.string() + ": texture has non-finite texels");
     sum += glm::dvec3(bmp->texels[i]);
+    bmp->minimum = glm::min(bmp->minimum, bmp->texels[i]);
   }
   if (bmp->texels.empty()) throw InputError(path.string() + ": empty texture");
   bmp->mean = Rgb(sum / double(bmp->texels.size()));
@@ -121,6 +124,20 @@ Rgb Texture::mean() const {
       return 0.5f * (c0_ + c1_);
     case Kind::mesh_attribute:
       return 0.5f * c0_;
+  }
+  return c0_;
+}
+
+Rgb Texture::minimum() const {
+  switch (kind_) {
+    case Kind::constant:
+      return c0_;
+    case Kind::bitmap:
+      return bitmap_->minimum;
+    case Kind::checkerboard:
+      return glm::min(c0_, c1_);
+    case Kind::mesh_attribute:
+      return glm::min(c0_, Rgb(0.0f));
   }
   return c0_;
 }
