@@ -6,7 +6,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -116,13 +115,9 @@ int main(int argc, char** argv) {
   for (auto& r : rows) r.trainer->time_host_stages(&r.host);
   for (int round = 0; round < rounds; ++round)
     for (auto& r : rows) {
-      ctx.record_device_time(true);
-      const auto start = std::chrono::steady_clock::now();
-      for (int i = 0; i < kBlock; ++i) r.trainer->step();
-      ctx.finish();
-      r.step_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / kBlock / rounds;
-      r.device_s += ctx.take_device_seconds();
-      ctx.record_device_time(false);
+      const bench::BlockTime t = bench::time_block(ctx, *r.trainer, kBlock);
+      r.step_s += t.wall_s / kBlock / rounds;
+      r.device_s += t.device_s;
     }
   fs::remove_all(tmp);
   const radiosity::Trainer& isnr = *rows[1].trainer;

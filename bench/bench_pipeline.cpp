@@ -8,7 +8,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -76,15 +75,10 @@ int main(int argc, char** argv) {
   for (auto& r : rows) r.trainer->time_host_stages(&r.host);
   for (int round = 0; round < rounds; ++round)
     for (auto& r : rows) {
-      ctx.record_device_time(true);
-      const auto start = std::chrono::steady_clock::now();
-      for (int i = 0; i < block; ++i) r.trainer->step();
-      ctx.finish();
-      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      r.ms.push_back(1e3 * wall / block);
-      r.wall_s += wall;
-      r.device_s += ctx.take_device_seconds();
-      ctx.record_device_time(false);
+      const bench::BlockTime t = bench::time_block(ctx, *r.trainer, block);
+      r.ms.push_back(1e3 * t.wall_s / block);
+      r.wall_s += t.wall_s;
+      r.device_s += t.device_s;
     }
   fs::remove_all(tmp);
 
