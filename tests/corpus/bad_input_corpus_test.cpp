@@ -338,9 +338,12 @@ const std::vector<Case>& cases() {
        "--width × --height"},
       {"residual_points_zero", "residual '{box}' --model '{t}/none' --points 0", 2, "--points"},
       {"residual_samples_nan", "residual '{box}' --model '{t}/none' --samples nan", 2, "--samples"},
-      {"reference_output_directory", "reference '{box}' --spp 1 --width 4 --height 4 -o '{t}'", 2, "is a directory"},
-      {"render_png_directory", "render '{box}' --model '{t}/none' -o '{t}/out.exr' --png '{t}'", 2, "is a directory"},
-      {"compare_error_map_directory", "compare '{t}/good.exr' '{t}/good.exr' --error-map '{t}'", 2, "is a directory"},
+      {"reference_output_directory", "reference '{box}' --spp 1 --width 4 --height 4 -o '{t}/dir.exr'", 2,
+       "is a directory"},
+      {"render_png_directory", "render '{box}' --model '{t}/none' -o '{t}/out.exr' --png '{t}/dir.png'", 2,
+       "is a directory"},
+      {"compare_error_map_directory", "compare '{t}/good.exr' '{t}/good.exr' --error-map '{t}/dir.png'", 2,
+       "is a directory"},
       // config.json
       train_case("config_malformed", "--steps 1 --config '{c}/config_malformed.json'", "malformed JSON"),
       train_case("config_unknown_key", "--steps 1 --config '{c}/config_unknown_key.json'", "'smaples'"),
@@ -365,16 +368,19 @@ const std::vector<Case>& cases() {
       {"run_config_malformed", "train '{box}' --resume --steps 1 -o '{t}/malformed_config_run'", 2,
        "malformed JSON in run config"},
       {"run_log_nan", "train '{box}' --resume --steps 1 -o '{t}/nan_log_run'", 2, "log.csv:2: the seconds column"},
-      // An output is never one of the command's inputs, nor another output: by identity, links followed.
-      {"output_is_scene", "reference '{t}/box_copy.xml' --spp 1 -o '{t}/box_copy.xml'", 2, "is the input"},
+      // An output is never one of the command's inputs, nor another output: by identity, links followed. (An input
+      // named as an image output without an image's extension is refused for the extension, first.)
+      {"output_is_scene", "reference '{t}/box_copy.xml' --spp 1 -o '{t}/box_copy.xml'", 2,
+       "the extension names the image format"},
       {"output_links_to_scene", "reference '{t}/box_copy.xml' --spp 1 -o '{t}/box_link.exr'", 2, "is the input"},
       {"output_is_checkpoint", "render '{box}' --model '{t}/hostile_run' -o '{t}/hostile_run/model.clr'", 2,
-       "is the input"},
-      {"png_is_output", "render '{box}' --model '{t}/hostile_run' -o '{t}/out.exr' --png '{t}/out.exr'", 2,
+       "the extension names the image format"},
+      {"png_is_output", "render '{box}' --model '{t}/hostile_run' -o '{t}/same.png' --png '{t}/same.png'", 2,
        "is also the output of -o"},
       {"sweep_output_is_scene", "sweep '{t}/sweep_holds_scene/tables.md' --minutes 1 -o '{t}/sweep_holds_scene'", 2,
        "tables.md in -o: output"},
-      {"error_map_is_reference", "compare '{t}/nan.exr' '{t}/nan.exr' --error-map '{t}/nan.exr'", 2, "is the input"},
+      {"error_map_is_reference", "compare '{t}/nan.exr' '{t}/nan.exr' --error-map '{t}/nan.exr'", 2,
+       "the extension names the image format"},
       // Coordinates a single-precision ray tracer cannot take are refused before Embree sees them.
       {"camera_far", "render '{box}' --model '{t}/hostile_run' --camera 1e20,0,0,0,0,0,0,1,0,40 -o '{t}/out.exr'", 2,
        "--camera: the camera's position lies beyond"},
@@ -400,7 +406,7 @@ const std::vector<Case>& cases() {
        "compare '{t}/good.exr' '{t}/good.exr' --error-map '{t}/" + std::string(300, 'm') + ".png'", 2,
        "a file name may have"},
       {"render_png_name_too_long",
-       "render '{box}' --model '{t}/none' -o '{t}/out.exr' --png '{t}/" + std::string(256, 'p') + "'", 2,
+       "render '{box}' --model '{t}/none' -o '{t}/out.exr' --png '{t}/" + std::string(256, 'p') + ".png'", 2,
        "a file name may have"},
       // images compared
       {"compare_garbage", "compare '{t}/garbage.exr' '{t}/garbage.exr'", 2, "cannot read EXR"},
@@ -783,6 +789,9 @@ void generate(const fs::path& t) {
                                 R"(<translate x="1e30"/></transform></shape></scene>)");
   }
   fs::copy_file(kBox, t / "box_copy.xml");
+  // Folders named as image outputs, extension and all: refused as folders.
+  fs::create_directories(t / "dir.exr");
+  fs::create_directories(t / "dir.png");
   fs::create_directories(t / "sweep_holds_scene");
   fs::copy_file(kBox, t / "sweep_holds_scene" / "tables.md");
   fs::create_symlink(t / "box_copy.xml", t / "box_link.exr");
