@@ -55,11 +55,6 @@ class FaultCli : public CliRunDir {
   }
 };
 
-std::size_t lines_in(const fs::path& p) {
-  std::ifstream in(p);
-  return std::size_t(std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n'));
-}
-
 bool wait_for_lines(const fs::path& log, std::size_t n) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   while (lines_in(log) < n && std::chrono::steady_clock::now() < deadline)

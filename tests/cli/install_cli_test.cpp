@@ -27,11 +27,6 @@ class InstallCli : public CliRunDir {
   InstallCli() : CliRunDir("install_cli") {}
 };
 
-std::size_t lines_in(const fs::path& p) {
-  std::ifstream in(p);
-  return std::size_t(std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n'));
-}
-
 // `binary ARGS` run in `cwd`; its exit code, stderr in `err`.
 int run_in(const fs::path& cwd, const fs::path& binary, const std::string& args, std::string* err = nullptr) {
   const fs::path err_file = cwd / "stderr.txt";

@@ -30,11 +30,6 @@ class TrainCli : public CliRunDir {
   TrainCli() : CliRunDir("train_cli") {}
 };
 
-std::size_t lines_in(const fs::path& p) {
-  std::ifstream in(p);
-  return std::size_t(std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n'));
-}
-
 TEST_F(TrainCli, InterruptWritesACheckpointAndExitsCleanly) {
   const fs::path run = dir / "run";
   const pid_t pid = fork();

@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -42,5 +44,11 @@ class CliRunDir : public ::testing::Test {
   std::string name_;
   nlohmann::json patch_;
 };
+
+// The number of lines in a file (log.csv rows, say); 0 when it cannot be read.
+inline std::size_t lines_in(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  return std::size_t(std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n'));
+}
 
 }  // namespace clr::test
