@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Acceptance run for a GPU (or any device) in at most about 9 minutes, no network (docs/nvidia.md):
+# Acceptance run for a GPU (or any device), about 5 minutes on an H100, no network (docs/nvidia.md):
 #
 #   bench/gpu_acceptance.sh [DEVICE] OUT_DIR
 #
@@ -8,9 +8,9 @@
 # groups in tests/runtimes/lanes.cmake, in one process); bench_nn --acceptance; train the bundled Cornell box with ISNR
 # for 2 minutes (the main job: its MAPE against a path-traced reference); render the run at 512² and time it;
 # bench_guide and bench_pipeline (the I-Module's share of a step, the pipelined step, host stages beside the device's
-# busy time); then every GPU-pace figure beside its target (issue: docs/nvidia.md). Writes OUT_DIR/summary.json
-# and OUT_DIR/log.txt; the last line printed is PASS, or FAIL with the reasons. Binaries come from BUILD_DIR
-# (default build/ci, as the test command builds it). MAPE_MAX (default 0.5) bounds the 2-minute MAPE: a CPU
+# busy time); bench_nn's table of every GEMM candidate; then every GPU-pace figure beside its target (issue:
+# docs/nvidia.md). Writes OUT_DIR/summary.json and OUT_DIR/log.txt; the last line printed is PASS, or FAIL with the
+# reasons. Binaries come from BUILD_DIR (default build/ci, as the test command builds it). MAPE_MAX (default 0.5) bounds the 2-minute MAPE: a CPU
 # reaches about 0.2 there (docs/results/nr-training.md), so a larger one means training is broken, not slow.
 set -uo pipefail
 
@@ -101,6 +101,9 @@ fi
 # Where a step's time goes on the device: its own figures, in the log (not judged).
 step bench_guide 150 "$build/bench/bench_guide" "$root/scenes/cornell-box.xml" 3
 step bench_pipeline 90 "$build/bench/bench_pipeline" "$root/scenes/cornell-box.xml" 3 20
+# Every GEMM variant the device is offered (the probe's pick, each tiled block, CLBlast) at B = 4096 / 16384 / 65536:
+# which block wins where, for the next round of tuning (not judged beyond its own checks against OpenBLAS).
+step gemm_table 120 "$bench" ${device:+--device "$device"}
 
 # The figures of the GPU-pace targets (docs/nvidia.md), each printed beside its target; JSON null where a step
 # produced none. On a CPU they are far from the targets, which are for an H100 or H200: only a GPU run is judged by them.

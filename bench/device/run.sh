@@ -4,9 +4,24 @@
 # bench/gpu_acceptance.sh on the GPU (docs/nvidia.md):
 #
 #   bench/device/run.sh BUNDLE OUT_DIR [DEVICE]     (DEVICE default nvidia)
+#
+# or, for a measurement of its own in the same setting, runs COMMAND with BUILD_DIR set to the unpacked build tree
+# (e.g. "$BUILD_DIR"/bench/bench_nn --device nvidia):
+#
+#   bench/device/run.sh --exec BUNDLE COMMAND...
 set -uo pipefail
-[ $# -ge 2 ] || { echo "usage: bench/device/run.sh BUNDLE OUT_DIR [DEVICE]" >&2; exit 2; }
-bundle=$1 out=$2 device=${3:-nvidia}
+usage="usage: bench/device/run.sh BUNDLE OUT_DIR [DEVICE] | bench/device/run.sh --exec BUNDLE COMMAND..."
+exec_mode=false
+if [ "${1:-}" = --exec ]; then
+  exec_mode=true
+  shift
+  [ $# -ge 2 ] || { echo "$usage" >&2; exit 2; }
+  bundle=$1
+  shift
+else
+  [ $# -ge 2 ] || { echo "$usage" >&2; exit 2; }
+  bundle=$1 out=$2 device=${3:-nvidia}
+fi
 root=$(cd "$(dirname "$0")/../.." && pwd)
 unpacked=$(mktemp -d)
 trap 'rm -rf "$unpacked"' EXIT
@@ -30,4 +45,8 @@ export OCL_ICD_VENDORS=$unpacked/vendors
 export LD_LIBRARY_PATH=$unpacked/lib${icd:+:$(dirname "$icd")}${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
 echo "NVIDIA OpenCL driver: ${icd:-not found}"
-BUILD_DIR=$unpacked/build "$root/bench/gpu_acceptance.sh" "$device" "$out"
+if $exec_mode; then
+  BUILD_DIR=$unpacked/build "$@"
+else
+  BUILD_DIR=$unpacked/build "$root/bench/gpu_acceptance.sh" "$device" "$out"
+fi

@@ -1,5 +1,7 @@
 #include "cl/device.hpp"
 
+#include <CL/cl_ext.h>  // CL_DEVICE_COMPUTE_CAPABILITY_*_NV
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -140,6 +142,9 @@ std::vector<DeviceInfo> list_devices() {
       info.fp16 = has_extension(ext, "cl_khr_fp16");
       info.int64_atomics = has_extension(ext, "cl_khr_int64_base_atomics");
       info.sub_groups = has_extension(ext, "cl_khr_subgroups") || has_extension(ext, "cl_intel_subgroups");
+      if (has_extension(ext, "cl_nv_device_attribute_query"))
+        info.nv_compute_capability = 10 * device_value<cl_uint>(d, CL_DEVICE_COMPUTE_CAPABILITY_MAJOR_NV) +
+                                     device_value<cl_uint>(d, CL_DEVICE_COMPUTE_CAPABILITY_MINOR_NV);
       info.simulator = lower(info.platform_name).find("oclgrind") != std::string::npos;
       if (emulate_nvidia) emulate_nvidia_limits(info);
       out.push_back(std::move(info));

@@ -42,8 +42,9 @@ struct DeviceInfo {
   bool fp16 = false;           // cl_khr_fp16
   bool int64_atomics = false;  // cl_khr_int64_base_atomics: hash-grid gradients in fixed point (docs/design.md §5)
   bool sub_groups = false;     // cl_khr_subgroups or cl_intel_subgroups (no kernel relies on them)
-  bool simulator = false;      // Oclgrind: never the default device
-  std::string emulated;        // "nvidia" when CLRADIOSITY_EMULATE_LIMITS clamped the figures above
+  unsigned nv_compute_capability = 0;  // cl_nv_device_attribute_query: major·10 + minor (H100/H200: 90); 0 elsewhere
+  bool simulator = false;              // Oclgrind: never the default device
+  std::string emulated;                // "nvidia" when CLRADIOSITY_EMULATE_LIMITS clamped the figures above
 
   std::string spec() const { return std::to_string(platform_index) + ":" + std::to_string(device_index); }
   // One line for listings and error messages: "0:0  Portable Computing Language / pthread-... (cpu)".

@@ -21,6 +21,8 @@ nlohmann::json to_json(const cl::DeviceInfo& d, bool is_default) {
           {"driver", d.driver_version},
           {"float_atomics", d.float_atomics},
           {"fp16", d.fp16},
+          {"nv_compute_capability",
+           d.nv_compute_capability ? nlohmann::json(d.nv_compute_capability / 10.0) : nlohmann::json()},
           {"default", is_default}};
 }
 
@@ -59,7 +61,12 @@ Command add_devices_command(CLI::App& app) {
               std::cout << (d.device == chosen.device ? "* " : "  ") << d.describe() << "\n"
                         << "      compute units " << d.compute_units << ", global memory " << gib(d.global_mem_bytes)
                         << ", max buffer " << gib(d.max_alloc_bytes) << ", " << d.opencl_c_version << ", float atomics "
-                        << (d.float_atomics ? "yes" : "no (CAS loops)") << ", fp16 " << (d.fp16 ? "yes" : "no") << "\n";
+                        << (d.float_atomics ? "yes" : "no (CAS loops)") << ", fp16 " << (d.fp16 ? "yes" : "no");
+              // NVIDIA: the compute capability decides whether the TF32 tensor-core GEMM is a candidate (8.0+).
+              if (d.nv_compute_capability)
+                std::cout << ", compute capability " << d.nv_compute_capability / 10 << "."
+                          << d.nv_compute_capability % 10;
+              std::cout << "\n";
             }
             return 0;
           }};

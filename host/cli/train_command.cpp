@@ -116,7 +116,9 @@ Command add_train_command(CLI::App& app) {
   cmd->add_option("--residual", opt->residual,
                   "relative (default; fades to l2 by the end of the budget, see relative_fade_end) or l2")
       ->check(CLI::IsMember({"relative", "l2"}));
-  cmd->add_option("--gemm", opt->gemm, "Matrix-product backend: auto (timed probe, cached), own, clblast")
+  cmd->add_option("--gemm", opt->gemm,
+                  "Matrix-product backend: auto (timed probe, cached; TF32 tensor cores where faster and within their "
+                  "bound), fp32 (the same without TF32), own, clblast")
       ->check(CLI::IsMember({"auto", "own", "clblast"}));
   auto* config_file = cmd->add_option("--config", opt->config_file, "Training settings (JSON); flags override it");
   cmd->add_flag("--other-scene", opt->other_scene,

@@ -3,7 +3,9 @@
 #include <clblast.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -53,9 +55,10 @@ unsigned u32(std::size_t v) {
 
 GemmChoice parse_gemm_choice(const std::string& text) {
   if (text == "auto") return GemmChoice::Auto;
+  if (text == "fp32") return GemmChoice::Fp32;
   if (text == "own") return GemmChoice::Own;
   if (text == "clblast") return GemmChoice::CLBlast;
-  throw InputError("gemm backend '" + text + "' is not one of auto, own, clblast");
+  throw InputError("gemm backend '" + text + "' is not one of auto, fp32, own, clblast");
 }
 
 std::string to_string(GemmBackend backend) {
@@ -74,8 +77,8 @@ std::string to_string(const GemmPlan& plan) {
   if (plan.backend == GemmBackend::CLBlast) return "clblast";
   if (plan.backend == GemmBackend::Tiled) {
     const auto& b = plan.block;
-    return "tiled " + std::to_string(b.bm) + "x" + std::to_string(b.bn) + "x" + std::to_string(b.bk) + "/" +
-           std::to_string(b.wm) + "x" + std::to_string(b.wn) + (b.vec == 4 ? "v4" : "");
+    return std::string(b.tf32 ? "tf32 " : "tiled ") + std::to_string(b.bm) + "x" + std::to_string(b.bn) + "x" +
+           std::to_string(b.bk) + "/" + std::to_string(b.wm) + "x" + std::to_string(b.wn) + (b.vec == 4 ? "v4" : "");
   }
   const auto& t = plan.tile;
   return "own " + std::to_string(t.tm) + "x" + std::to_string(t.vw) + "x" + std::to_string(t.nv);
@@ -98,7 +101,16 @@ std::vector<GemmBlock> gemm_blocks(const cl::DeviceInfo& device) {
   // The v4 forms read local memory as float4 (issue: the 8 × 8 scalar form ran at a third of an H200's peak);
   // untimed on a GPU when added, so the probe decides.
   if (device.type == cl::DeviceType::Cpu) return {};
-  return {{64, 64, 16, 4, 4, 1}, {128, 128, 8, 8, 8, 1}, {128, 128, 8, 8, 8, 4}, {128, 128, 16, 8, 8, 4}};
+  std::vector<GemmBlock> blocks = {
+      {64, 64, 16, 4, 4, 1}, {128, 128, 8, 8, 8, 1}, {128, 128, 8, 8, 8, 4}, {128, 128, 16, 8, 8, 4}};
+  // Tensor cores (TF32 mma.sync, sm_80 and later): 8 warps over a 128 × 128 tile (64 accumulators a lane) with 32-
+  // or 16-deep panels, and a 64-row tile for products with few rows (B = 4096 gives 32 × 4 tiles of 128 for 132
+  // multiprocessors).
+  if (device.nv_compute_capability >= 80)
+    for (const GemmBlock b : {GemmBlock{128, 128, 32, 16, 4, 1, true}, GemmBlock{128, 128, 16, 16, 4, 1, true},
+                              GemmBlock{64, 128, 32, 8, 4, 1, true}})
+      blocks.push_back(b);
+  return blocks;
 }
 
 Gemm::Gemm(cl::Context& ctx, GemmChoice choice) : Gemm(ctx, choose_gemm_plan(ctx, choice)) {}
@@ -106,7 +118,8 @@ Gemm::Gemm(cl::Context& ctx, GemmChoice choice) : Gemm(ctx, choose_gemm_plan(ctx
 Gemm::Gemm(cl::Context& ctx, const GemmPlan& plan) : ctx_(&ctx), plan_(plan) {
   const auto& t = plan.tile;
   const bool tiled = plan.backend == GemmBackend::Tiled;
-  const auto& program = tiled ? ctx.program(programs::gemm_tiled, programs::gemm_tiled_options(plan.block))
+  const auto& program = tiled ? ctx.program(plan.block.tf32 ? programs::gemm_tf32 : programs::gemm_tiled,
+                                            programs::gemm_tiled_options(plan.block))
                               : ctx.program(programs::gemm, programs::gemm_options(t.tm, t.vw, t.nv));
   gemm_.emplace(program.kernel(tiled ? "gemm_tiled" : "gemm_own"));
   reduce_.emplace(program.kernel("gemm_reduce_slices"));
@@ -290,8 +303,9 @@ GemmPlan choose_gemm_plan(cl::Context& ctx, GemmChoice choice) {
   if (choice == GemmChoice::CLBlast) return {GemmBackend::CLBlast, tiles.front()};
   std::vector<GemmPlan> candidates;
   for (const auto& t : tiles) candidates.push_back({GemmBackend::Own, t});
-  for (const auto& b : gemm_blocks(ctx.device())) candidates.push_back({GemmBackend::Tiled, tiles.front(), b});
-  if (choice == GemmChoice::Auto) candidates.push_back({GemmBackend::CLBlast, tiles.front()});
+  for (const auto& b : gemm_blocks(ctx.device()))
+    if (!b.tf32 || choice == GemmChoice::Auto) candidates.push_back({GemmBackend::Tiled, tiles.front(), b});
+  if (choice != GemmChoice::Own) candidates.push_back({GemmBackend::CLBlast, tiles.front()});
   if (candidates.size() == 1) return candidates.front();
   // A simulator (Oclgrind) interprets every work-item: its times say nothing about a device, and one probe product
   // takes minutes there. It runs the first candidate; tests that check a plan name it.
@@ -300,19 +314,47 @@ GemmPlan choose_gemm_plan(cl::Context& ctx, GemmChoice choice) {
   ProbeCache cache(ctx);
   const std::size_t m = 4096, n = 512, k = 512;
   std::optional<cl::Buffer<float>> a, b, c;
-  auto time_of = [&](const GemmPlan& plan) {
+  std::vector<float> host;
+  const auto product = [&](const GemmPlan& plan) {
     if (!a) {
-      std::vector<float> host(m * k, 0.01f);
+      // Values of both signs and many magnitudes, so that a wrong fragment layout cannot cancel out.
+      host.resize(m * k);
+      for (std::size_t i = 0; i < host.size(); ++i) host[i] = float(int((i * 2654435761u) >> 7 & 1023) - 511) / 512.0f;
       a.emplace(ctx, std::span<const float>(host));
-      b.emplace(ctx, std::span<const float>(host.data(), k * n));
+      b.emplace(ctx, std::span<const float>(host.data() + 7, k * n));
       c.emplace(ctx, m * n);
     }
+    auto g = std::make_shared<Gemm>(ctx, plan);
+    return [&, g] { g->run(Op::N, Op::N, m, n, k, 1.0f, mat(*a, k), mat(*b, n), 0.0f, mat(*c, n)); };
+  };
+  // A TF32 candidate is held against the first candidate (FP32) on the same product, normwise: every element within
+  // the TF32 bound of the largest Σ_k |A_ik · B_kj| over a sample of rows (the FP32 product's own error is ~10^-4
+  // of that bound).
+  std::vector<float> fp32;
+  double magnitude = 0;
+  const auto within_tf32_bound = [&](const std::vector<float>& got) {
+    if (fp32.empty()) {
+      product(candidates.front())();
+      fp32 = c->read();
+      for (std::size_t i = 0; i < m; i += 61)
+        for (std::size_t j = 0; j < n; ++j) {
+          double s = 0;
+          for (std::size_t kk = 0; kk < k; ++kk) s += std::abs(double(host[i * k + kk]) * host[7 + kk * n + j]);
+          magnitude = std::max(magnitude, s);
+        }
+    }
+    for (std::size_t i = 0; i < got.size(); ++i)
+      if (!(std::abs(double(got[i]) - fp32[i]) <= tf32_error_bound(magnitude))) return false;
+    return true;
+  };
+  auto time_of = [&](const GemmPlan& plan) {
     try {
-      Gemm g(ctx, plan);
-      return ProbeCache::time_best_of_three(
-          ctx, [&] { g.run(Op::N, Op::N, m, n, k, 1.0f, mat(*a, k), mat(*b, n), 0.0f, mat(*c, n)); });
+      const auto run = product(plan);
+      const double s = ProbeCache::time_best_of_three(ctx, run);
+      if (plan.backend == GemmBackend::Tiled && plan.block.tf32 && !within_tf32_bound(c->read())) return 1e30;
+      return s;
     } catch (const std::exception&) {
-      return 1e30;  // a candidate that fails to build or run here simply loses
+      return 1e30;  // a candidate that fails to build, run or hold its bound here simply loses
     }
   };
   GemmPlan best = candidates.front();

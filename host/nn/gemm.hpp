@@ -19,11 +19,13 @@
 namespace clr::nn {
 
 enum class GemmBackend { Own, Tiled, CLBlast };
-enum class GemmChoice { Auto, Own, CLBlast };
+enum class GemmChoice { Auto, Fp32, Own, CLBlast };
 enum class Op { N, T };                            // op(X) = X or Xᵀ
 enum class Act : unsigned { None = 0, Relu = 1 };  // values match ACT_* in kernels/gemm.cl
 
-// "auto" | "own" | "clblast" (the engine config's `gemm` entry); anything else throws InputError.
+// "auto" | "fp32" | "own" | "clblast" (the engine config's `gemm` entry); anything else throws InputError.
+// auto: every candidate, TF32 tensor cores included where the device has them; fp32: every FP32 candidate;
+// own: our FP32 kernels only; clblast: CLBlast alone.
 GemmChoice parse_gemm_choice(const std::string& text);
 std::string to_string(GemmBackend backend);
 
@@ -35,11 +37,17 @@ struct GemmTile {
 // A work-group of the tiled kernel computes bm × bn of C from bk-deep panels of A and B staged in __local memory;
 // each of its (bm/wm)·(bn/wn) work-items keeps wm × wn of C in registers (BM, BN, BK, WM, WN in gemm_tiled.cl).
 // vec 4: the work-item's rows and columns in runs of 4, read from local memory as float4 (VEC in gemm_tiled.cl).
+// tf32: the tensor-core form (gemm_tf32.cl, NVIDIA sm_80 and later): groups of bm/wm warps (bn/wn = 32 lanes), each
+// lane holding wm × wn accumulators of m16n8k8 fragments; products within the TF32 bound, not FP32's.
 struct GemmBlock {
   unsigned bm, bn, bk, wm, wn, vec;
+  bool tf32 = false;
   std::size_t group_columns() const { return bn / wn; }  // the work-group's extent in dimension 0
   std::size_t group_rows() const { return bm / wm; }
-  std::size_t local_bytes() const { return sizeof(float) * bk * ((bm + (vec == 4 ? 4 : 1)) + bn); }  // As (padded), Bs
+  std::size_t local_bytes() const {  // As (padded), Bs (padded for tf32)
+    return tf32 ? sizeof(float) * (bm * (bk + 4) + bk * (bn + 8))
+                : sizeof(float) * bk * ((bm + (vec == 4 ? 4 : 1)) + bn);
+  }
 };
 // What a Gemm runs: the backend, the tile of the own kernel (`own`) and the block of the tiled one (`tiled`).
 struct GemmPlan {
@@ -47,12 +55,14 @@ struct GemmPlan {
   GemmTile tile;
   GemmBlock block{};
 };
-// "clblast", "own TMxVWxNV" (e.g. "own 6x16x1") or "tiled BMxBNxBK/WMxWN" (e.g. "tiled 64x64x16/4x4")
+// "clblast", "own TMxVWxNV" (e.g. "own 6x16x1"), "tiled BMxBNxBK/WMxWN" (e.g. "tiled 64x64x16/4x4", "v4" after a
+// float4 block) or "tf32 BMxBNxBK/WMxWN"
 std::string to_string(const GemmPlan& plan);
 
 // The own kernel's candidate tiles for this device, the first being the default when nothing is timed.
 std::vector<GemmTile> gemm_tiles(const cl::DeviceInfo& device);
 // The tiled kernel's candidate blocks for this device (all within NVIDIA's 48 KiB and 1024 work-items); none on CPUs.
+// TF32 blocks only where nv_compute_capability >= 80.
 std::vector<GemmBlock> gemm_blocks(const cl::DeviceInfo& device);
 
 // A row-major matrix inside a buffer: element (i, j) is at buf[offset + i·ld + j].
@@ -99,7 +109,13 @@ class Gemm {
 
 // The fastest plan for `choice` on this device (CLBlast needs no timing). Timing a candidate costs a kernel build
 // and a few hundred ms; times are cached on disk keyed by device name and driver version, so later runs pay nothing.
+// A TF32 candidate is taken only where its product stays within tf32_error_bound of the FP32 kernel's.
 GemmPlan choose_gemm_plan(cl::Context& ctx, GemmChoice choice);
+
+// The error TF32 products are allowed against the exact product: each factor rounded to 10 mantissa bits (unit
+// roundoff 2^-11), so |C − C_exact| ≤ 2^-9 · |alpha| · Σ_k |A_ik · B_kj| with room for the FP32 sum
+// (kernels/gemm_tf32.cl). `magnitude` is |alpha| · Σ_k |A_ik · B_kj|.
+inline double tf32_error_bound(double magnitude) { return magnitude / 512.0; }
 
 // Checked narrowing for kernel arguments: kernels index with 32-bit integers (buffers are ≤ 1 GiB on PoCL).
 unsigned u32(std::size_t v);

@@ -94,6 +94,7 @@ nlohmann::json to_json(const NetworkConfig& c) {
                       {"max_chunk_rows", c.max_chunk_rows},
                       {"adam", adam_json(c.adam)},
                       {"gemm", c.gemm == GemmChoice::Own       ? "own"
+                               : c.gemm == GemmChoice::Fp32    ? "fp32"
                                : c.gemm == GemmChoice::CLBlast ? "clblast"
                                                                : "auto"},
                       {"seed", c.seed}};

@@ -31,7 +31,7 @@ struct NetworkConfig {
   float output_scale = 1;
   std::size_t max_chunk_rows = 65536;
   AdamConfig adam;
-  GemmChoice gemm = GemmChoice::Auto;  // the engine config's `gemm: auto|own|clblast`
+  GemmChoice gemm = GemmChoice::Auto;  // the engine config's `gemm: auto|fp32|own|clblast`
   std::uint64_t seed = 1;
 };
 

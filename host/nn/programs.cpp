@@ -36,9 +36,10 @@ std::vector<Build> every_build(const cl::DeviceInfo& device, unsigned fused_inpu
     out.push_back({"gemm_" + std::to_string(t.tm) + "x" + std::to_string(t.vw) + "x" + std::to_string(t.nv), gemm,
                    gemm_options(t.tm, t.vw, t.nv)});
   for (const auto& b : gemm_blocks(device))
-    out.push_back({"gemm_tiled_" + std::to_string(b.bm) + "x" + std::to_string(b.bn) + "x" + std::to_string(b.bk) +
-                       "_" + std::to_string(b.wm) + "x" + std::to_string(b.wn) + "_v" + std::to_string(b.vec),
-                   gemm_tiled, gemm_tiled_options(b)});
+    out.push_back({std::string(b.tf32 ? "gemm_tf32_" : "gemm_tiled_") + std::to_string(b.bm) + "x" +
+                       std::to_string(b.bn) + "x" + std::to_string(b.bk) + "_" + std::to_string(b.wm) + "x" +
+                       std::to_string(b.wn) + "_v" + std::to_string(b.vec),
+                   b.tf32 ? gemm_tf32 : gemm_tiled, gemm_tiled_options(b)});
   for (const unsigned f : {1u, 2u, 4u, 8u}) {
     out.push_back({"hashgrid_F" + std::to_string(f), hashgrid, hashgrid_options(f, false)});
     if (device.int64_atomics)

@@ -23,6 +23,7 @@ inline const Files adam = {"atomics.cl", "adam.cl"};
 inline const Files loss = {"atomics.cl", "loss.cl"};
 inline const Files gemm = {"gemm.cl"};
 inline const Files gemm_tiled = {"gemm.cl", "gemm_tiled.cl"};  // gemm.cl's epilogue and helper kernels too
+inline const Files gemm_tf32 = {"gemm.cl", "gemm_tf32.cl"};    // NVIDIA sm_80+ only (inline PTX)
 inline const Files hashgrid = {"atomics.cl", "hashgrid.cl"};
 inline const Files mlp = {"mlp.cl"};
 inline const Files mlp_fused = {"mlp_fused.cl"};

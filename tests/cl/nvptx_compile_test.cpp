@@ -40,6 +40,7 @@ cl::DeviceInfo nvidia_device() {
   d.max_work_group_size = 1024;
   d.local_mem_bytes = 48 * 1024;
   d.int64_atomics = true;
+  d.nv_compute_capability = 90;  // Hopper: the TF32 tensor-core GEMM is built too
   cl::emulate_nvidia_limits(d);
   return d;
 }

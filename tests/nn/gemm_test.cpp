@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <limits>
@@ -49,11 +50,18 @@ class GemmTest : public ClTest {
     auto B = [&](std::size_t kk, std::size_t j) {
       return double(c.op_b == nn::Op::N ? b[off + kk * ldb + j] : b[off + j * ldb + kk]);
     };
-    std::vector<double> want(c.m * c.n);
+    // A TF32 plan (tensor cores, NVIDIA only) rounds each factor to 10 mantissa bits: its elements are held to
+    // nn::tf32_error_bound of |alpha| · Σ|A·B| on top of the FP32 tolerance.
+    const bool tf32 = gemm.plan().backend == nn::GemmBackend::Tiled && gemm.plan().block.tf32;
+    std::vector<double> want(c.m * c.n), slack(c.m * c.n);
     for (std::size_t i = 0; i < c.m; ++i)
       for (std::size_t j = 0; j < c.n; ++j) {
-        double s = 0;
-        for (std::size_t kk = 0; kk < c.k; ++kk) s += A(i, kk) * B(kk, j);
+        double s = 0, mag = 0;
+        for (std::size_t kk = 0; kk < c.k; ++kk) {
+          s += A(i, kk) * B(kk, j);
+          mag += std::abs(A(i, kk) * B(kk, j));
+        }
+        slack[i * c.n + j] = tf32 ? nn::tf32_error_bound(std::abs(c.alpha) * mag) : 0.0;
         double r = c.alpha * s + (c.beta != 0.0f ? c.beta * double(cm[off + i * ldc + j]) : 0.0) +
                    (c.bias ? double(bias[j]) : 0.0);
         if (c.act == nn::Act::Relu) r = std::max(r, 0.0);
@@ -70,6 +78,8 @@ class GemmTest : public ClTest {
     std::vector<float> got(c.m * c.n);
     for (std::size_t i = 0; i < c.m; ++i)
       for (std::size_t j = 0; j < c.n; ++j) got[i * c.n + j] = c_host[off + i * ldc + j];
+    for (std::size_t i = 0; i < got.size(); ++i)
+      if (slack[i] > 0 && std::abs(double(got[i]) - want[i]) <= slack[i]) got[i] = float(want[i]);
     EXPECT_TRUE(all_near(std::span<const float>(got), std::span<const double>(want)))
         << "m=" << c.m << " n=" << c.n << " k=" << c.k << " opA=" << int(c.op_a) << " opB=" << int(c.op_b);
     EXPECT_TRUE(canaries_intact(c_host, cm.size()));
@@ -178,9 +188,13 @@ TEST_F(GemmTest, GpuShapedDeviceMatchesTwin) {
 // Every block stays within NVIDIA's limits (48 KiB of local memory, 1024 work-items a group), and the compiled
 // kernel reports at least the host's count of a block's local memory, within the same limit. At least, not exactly:
 // NVIDIA's compiler adds a few bytes of its own (4 on an H200, driver 580); the launch check reads the kernel's figure.
+// TF32 blocks are checked for their shape here (gemm_tf32.cl's #error conditions: a warp of lanes in dimension 0,
+// an even number of warps, m16n8 fragments filling a lane's accumulators); their program holds inline PTX, so it
+// builds only on NVIDIA (the nvptx lane compiles it, the GPU acceptance runs it against the twin).
 TEST_F(GemmTest, TiledBlocksFitNvidiasLimits) {
   cl::DeviceInfo gpu = ctx().device();
   gpu.type = cl::DeviceType::Gpu;
+  gpu.nv_compute_capability = 90;
   for (const auto& b : nn::gemm_blocks(gpu)) {
     const auto name = nn::to_string(nn::GemmPlan{nn::GemmBackend::Tiled, {1, 1, 1}, b});
     EXPECT_LE(b.group_columns() * b.group_rows(), 1024u) << name;
@@ -191,11 +205,36 @@ TEST_F(GemmTest, TiledBlocksFitNvidiasLimits) {
       EXPECT_EQ(b.wm % 4, 0u) << name;  // runs of 4 rows and columns
       EXPECT_EQ(b.wn % 4, 0u) << name;
     }
+    if (b.tf32) {
+      const unsigned warps = b.bm / b.wm, mt = b.bm / 2 / 16, nt = b.bn / (warps / 2) / 8;
+      EXPECT_EQ(b.group_columns(), 32u) << name;
+      EXPECT_EQ(warps % 2, 0u) << name;
+      EXPECT_EQ(mt * nt * 4, b.wm * b.wn) << name;
+      EXPECT_EQ(b.bk % 8, 0u) << name;
+      continue;
+    }
     const cl::Kernel k =
         ctx().program(nn::programs::gemm_tiled, nn::programs::gemm_tiled_options(b)).kernel("gemm_tiled");
     EXPECT_GE(k.local_mem_bytes(), b.local_bytes()) << name;
     EXPECT_LE(k.local_mem_bytes(), 48u * 1024u) << name;
   }
+}
+
+// Tensor-core blocks are offered only to NVIDIA devices of compute capability 8.0 and later.
+TEST(GemmBlocks, Tf32OnlyFromAmpereOn) {
+  cl::DeviceInfo gpu;
+  gpu.type = cl::DeviceType::Gpu;
+  const auto tf32_count = [&] {
+    const auto blocks = nn::gemm_blocks(gpu);
+    return std::count_if(blocks.begin(), blocks.end(), [](const nn::GemmBlock& b) { return b.tf32; });
+  };
+  EXPECT_EQ(tf32_count(), 0);
+  gpu.nv_compute_capability = 75;
+  EXPECT_EQ(tf32_count(), 0);
+  gpu.nv_compute_capability = 80;
+  EXPECT_GT(tf32_count(), 0);
+  gpu.type = cl::DeviceType::Cpu;
+  EXPECT_EQ(tf32_count(), 0);
 }
 
 TEST_F(GemmTest, ClblastMatchesTwin) {
@@ -207,6 +246,7 @@ TEST(GemmChoice, ParsesConfigValues) {
   EXPECT_EQ(nn::parse_gemm_choice("own"), nn::GemmChoice::Own);
   EXPECT_EQ(nn::parse_gemm_choice("clblast"), nn::GemmChoice::CLBlast);
   EXPECT_EQ(nn::parse_gemm_choice("auto"), nn::GemmChoice::Auto);
+  EXPECT_EQ(nn::parse_gemm_choice("fp32"), nn::GemmChoice::Fp32);
   EXPECT_THROW(nn::parse_gemm_choice("cublas"), InputError);
 }
 
