@@ -3,8 +3,10 @@
 // never a crash, a hang or an allocation the input alone decides. Small text cases live in tests/corpus/files;
 // binary and large ones are generated here at start-up. Each command runs under a time limit and a cap on its
 // address space, so a hang or an unbounded allocation fails its row instead of the machine.
+#include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -823,18 +825,65 @@ void generate(const fs::path& t) {
   write(t / "nan_log_run" / "log.csv", "step,seconds\n25,nan,0.1\n");
 }
 
-class BadInputCorpus : public ::testing::TestWithParam<Case> {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("clr_corpus_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    generate(dir_);
+// The generated inputs take seconds to make, and ctest runs every case in a process of its own (some 190 of them):
+// they are made once per test binary (its path and modification time name the folder), under a lock that parallel
+// ctest processes share, and each process works in its own folder of hard links to them. Commands replace their
+// outputs (common/atomic_file.hpp) rather than write into an existing file, so no case changes a shared input.
+fs::path generated_once() {
+  const fs::path exe = fs::read_symlink("/proc/self/exe");
+  const fs::path base =
+      fs::temp_directory_path() / ("clr_corpus_inputs_" + std::to_string(std::hash<std::string>{}(exe.string())) + "_" +
+                                   std::to_string(fs::last_write_time(exe).time_since_epoch().count()));
+  const std::string lock = base.string() + ".lock";
+  const int fd = ::open(lock.c_str(), O_CREAT | O_RDWR, 0600);
+  if (fd < 0 || ::flock(fd, LOCK_EX) != 0) throw std::runtime_error("cannot lock " + lock);
+  if (!fs::exists(base / ".complete")) {
+    // Folders of earlier builds of this binary (same path, another time) are stale.
+    const std::string prefix = base.filename().string().substr(0, base.filename().string().rfind('_') + 1);
+    for (const auto& e : fs::directory_iterator(base.parent_path()))
+      if (const std::string name = e.path().filename().string();
+          name.starts_with(prefix) && e.path() != base && e.path().string() != lock)
+        fs::remove_all(e.path());
+    fs::remove_all(base);
+    fs::create_directories(base);
+    generate(base);
+    write(base / ".complete", "");
   }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
-  static fs::path dir_;
-};
-fs::path BadInputCorpus::dir_;
+  ::close(fd);  // releases the lock
+  return base;
+}
+
+void link_tree(const fs::path& from, const fs::path& to) {
+  fs::create_directories(to);
+  for (const auto& e : fs::recursive_directory_iterator(from)) {
+    const fs::path target = to / e.path().lexically_relative(from);  // fs::relative would follow links
+    if (e.is_directory() && !e.is_symlink())
+      fs::create_directories(target);
+    else
+      fs::create_hard_link(e.path(), target);  // link(2): FIFOs and symbolic links themselves, not their targets
+  }
+}
+
+// This process's folder of the generated inputs, made on first use and removed at exit. Not in SetUpTestSuite: gtest
+// reports the tests of a suite whose set-up failed as skipped, and ctest would count them as skipped, not failed;
+// here a failure fails the test that needed the folder.
+const fs::path& corpus_dir() {
+  struct Folder {
+    fs::path path = fs::temp_directory_path() / ("clr_corpus_" + std::to_string(::getpid()));
+    Folder() {
+      fs::remove_all(path);
+      link_tree(generated_once(), path);
+    }
+    ~Folder() {
+      std::error_code ignored;
+      fs::remove_all(path, ignored);
+    }
+  };
+  static const Folder folder;
+  return folder.path;
+}
+
+class BadInputCorpus : public ::testing::TestWithParam<Case> {};
 
 std::string expand(std::string s, const fs::path& t) {
   for (const auto& [key, value] :
@@ -849,16 +898,17 @@ TEST_P(BadInputCorpus, ExitsWithOneClearLine) {
   const bool needs_device =
       c.args.starts_with("train") || c.args.starts_with("render") || c.args.starts_with("residual");
   if (needs_device && cl::list_devices().empty()) GTEST_SKIP() << "no OpenCL device";
-  fs::remove(dir_ / "out.exr");
-  fs::remove_all(dir_ / "run");
-  const auto r = run_limited(expand(c.args, dir_), dir_);
+  const fs::path& dir = corpus_dir();
+  fs::remove(dir / "out.exr");
+  fs::remove_all(dir / "run");
+  const auto r = run_limited(expand(c.args, dir), dir);
   EXPECT_EQ(r.exit_code, c.exit_code) << c.args << "\n" << r.err;
   if (c.exit_code == 0) return;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_LT(r.err.size(), 1024u) << "an error line echoed its input whole";
   EXPECT_THAT(r.err, HasSubstr(c.fragment));
-  EXPECT_FALSE(fs::exists(dir_ / "out.exr")) << "a failed command left an output";
-  EXPECT_FALSE(fs::exists(dir_ / "run" / "model.clr")) << "a refused training left a checkpoint";
+  EXPECT_FALSE(fs::exists(dir / "out.exr")) << "a failed command left an output";
+  EXPECT_FALSE(fs::exists(dir / "run" / "model.clr")) << "a refused training left a checkpoint";
 }
 
 INSTANTIATE_TEST_SUITE_P(Corpus, BadInputCorpus, ::testing::ValuesIn(cases()),
