@@ -1,12 +1,14 @@
 #pragma once
 // Matrix products for the networks, on one of three backends chosen per device (docs/design.md §6):
 //   own      kernels/gemm.cl, register-blocked without local memory: fast on PoCL's CPU device;
-//   tiled    kernels/gemm_tiled.cl, work-group tiles staged through __local memory: the GPU shape;
+//   tiled    kernels/gemm_tiled.cl, work-group tiles staged through __local memory: the GPU shape; on NVIDIA
+//            sm_80+ also kernels/gemm_tf32.cl, the same on the tensor cores (TF32 inputs, FP32 sums);
 //   clblast  CLBlast's tuned kernels on our cl_mem and queue: fast on GPUs, untuned (slow) on PoCL.
 // The own kernel's register tile must fit the vector register file, which differs between CPUs (AVX-512: 32 × 16
 // floats, AVX2: 16 × 8), so it has a few candidate tiles per device type, and the tiled kernel a few block shapes.
-// `auto` times every candidate and CLBlast, `own` only our kernels (tiles and blocks), on a 4096×512×512 product
-// once per device and driver; the times are cached ($XDG_CACHE_HOME/clradiosity/gemm_probe.json, else ~/.cache/...).
+// `auto` times every candidate and CLBlast, `fp32` the same without TF32, `own` only our FP32 kernels (tiles and
+// blocks), on a 4096×512×512 product once per device and driver; the times are cached
+// ($XDG_CACHE_HOME/clradiosity/gemm_probe.json, else ~/.cache/...).
 #include <cstddef>
 #include <optional>
 #include <string>
