@@ -104,11 +104,13 @@ std::vector<GemmBlock> gemm_blocks(const cl::DeviceInfo& device) {
   std::vector<GemmBlock> blocks = {
       {64, 64, 16, 4, 4, 1}, {128, 128, 8, 8, 8, 1}, {128, 128, 8, 8, 8, 4}, {128, 128, 16, 8, 8, 4}};
   // Tensor cores (TF32 mma.sync, sm_80 and later): 8 warps over a 128 × 128 tile (64 accumulators a lane) with 32-
-  // or 16-deep panels, and a 64-row tile for products with few rows (B = 4096 gives 32 × 4 tiles of 128 for 132
-  // multiprocessors).
+  // or 16-deep panels, and smaller tiles for products with few rows (B = 4096 gives 32 × 4 tiles of 128 for 132
+  // multiprocessors). On an H100 128x128x16 won at every size measured (docs/results/benchmarks.md); the 16-deep
+  // 64 × 128 and 64 × 64 (4 warps) tiles were added after that run, untimed on a GPU: the probe decides.
   if (device.nv_compute_capability >= 80)
     for (const GemmBlock b : {GemmBlock{128, 128, 32, 16, 4, 1, true}, GemmBlock{128, 128, 16, 16, 4, 1, true},
-                              GemmBlock{64, 128, 32, 8, 4, 1, true}})
+                              GemmBlock{64, 128, 32, 8, 4, 1, true}, GemmBlock{64, 128, 16, 8, 4, 1, true},
+                              GemmBlock{64, 64, 16, 16, 2, 1, true}})
       blocks.push_back(b);
   return blocks;
 }
