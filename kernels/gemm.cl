@@ -34,6 +34,17 @@ inline float apply_act(float x, uint act) { return act == ACT_RELU ? fmax(x, 0.0
 
 inline floatV apply_act_v(floatV x, uint act) { return act == ACT_RELU ? fmax(x, (floatV)(0.0f)) : x; }
 
+// One element of C from its accumulated product, the epilogue of every kernel here and in gemm_tiled.cl and
+// gemm_tf32.cl: *c = act(alpha · acc + beta · *c + bias), `bias` pointing at the element's column.
+inline void store_c(__global float* c, float acc, float alpha, float beta, __global const float* bias, uint use_bias,
+                    uint act) {
+  float r = alpha * acc;
+  // beta == 0 must not read C: it may hold garbage (or NaN) that 0·C would propagate.
+  if (beta != 0.0f) r += beta * *c;
+  if (use_bias) r += *bias;
+  *c = apply_act(r, act);
+}
+
 __kernel void gemm_own(uint M, uint N, uint K, float alpha, __global const float* A, uint a_off, uint a_rs, uint a_cs,
                        __global const float* B, uint b_off, uint ldb, float beta, __global float* C, uint c_off,
                        uint ldc, uint k_slice, uint c_slice, __global const float* bias, uint bias_off, uint use_bias,
@@ -96,12 +107,7 @@ __kernel void gemm_own(uint M, uint N, uint K, float alpha, __global const float
           float t[TN];
 #pragma unroll
           for (uint v = 0; v < NV; ++v) vstoreV(acc[i][v], v, t);
-          for (uint j = 0; j < nn; ++j) {
-            float r = alpha * t[j];
-            if (beta != 0.0f) r += beta * cp[j];
-            if (use_bias) r += bias[bias_off + n0 + j];
-            cp[j] = apply_act(r, act);
-          }
+          for (uint j = 0; j < nn; ++j) store_c(cp + j, t[j], alpha, beta, bias + bias_off + n0 + j, use_bias, act);
         }
       }
     }
@@ -117,13 +123,8 @@ __kernel void gemm_own(uint M, uint N, uint K, float alpha, __global const float
       }
     }
     for (uint i = 0; i < mm; ++i)
-      for (uint j = 0; j < nn; ++j) {
-        __global float* cp = Cs + (m0 + i) * ldc + n0 + j;
-        float r = alpha * acc[i * TN + j];
-        if (beta != 0.0f) r += beta * *cp;
-        if (use_bias) r += bias[bias_off + n0 + j];
-        *cp = apply_act(r, act);
-      }
+      for (uint j = 0; j < nn; ++j)
+        store_c(Cs + (m0 + i) * ldc + n0 + j, acc[i * TN + j], alpha, beta, bias + bias_off + n0 + j, use_bias, act);
   }
 }
 
@@ -192,13 +193,7 @@ __kernel void gemm_narrow_nn(uint M, uint N, uint K, float alpha, __global const
     const float av = a[k];
     for (uint j = 0; j < 4; ++j) s[j] = fma(av, Bt[j * K + k], s[j]);
   }
-  for (uint j = 0; j < N; ++j) {
-    __global float* cp = C + c_off + i * ldc + j;
-    float r = alpha * s[j];
-    if (beta != 0.0f) r += beta * *cp;
-    if (use_bias) r += bias[bias_off + j];
-    *cp = apply_act(r, act);
-  }
+  for (uint j = 0; j < N; ++j) store_c(C + c_off + i * ldc + j, s[j], alpha, beta, bias + bias_off + j, use_bias, act);
 }
 
 // gemm_narrow_tn: partial products P[s][i][j] = Σ_{k in slice s} A[k, i] · B[k, j] for j < n ≤ 4, A row-major

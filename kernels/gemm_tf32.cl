@@ -177,13 +177,7 @@ __kernel __attribute__((reqd_work_group_size(LX, LY, 1))) void gemm_tiled(
       for (uint q = 0; q < 4; ++q) {
         const uint row = m0 + wm0 + i * 16 + group + (q / 2) * 8;
         const uint col = n0 + wn0 + j * 8 + 2 * t + q % 2;
-        if (row < M && col < N) {
-          __global float* cp = Cs + row * ldc + col;
-          float r = alpha * acc[i][j][q];
-          // beta == 0 must not read C: it may hold garbage (or NaN) that 0·C would propagate.
-          if (beta != 0.0f) r += beta * *cp;
-          if (use_bias) r += bias[bias_off + col];
-          *cp = apply_act(r, act);
-        }
+        if (row < M && col < N)
+          store_c(Cs + row * ldc + col, acc[i][j][q], alpha, beta, bias + bias_off + col, use_bias, act);
       }
 }

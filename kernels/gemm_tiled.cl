@@ -106,21 +106,9 @@ __kernel __attribute__((reqd_work_group_size(LX, LY, 1))) void gemm_tiled(
       float a[WM], b[WN];
 #if VEC == 4
 #pragma unroll
-      for (uint c = 0; c < WM / 4; ++c) {
-        const float4 v = As4[(kk * AS_LD + c * LY * 4) / 4 + ly];
-        a[4 * c] = v.x;
-        a[4 * c + 1] = v.y;
-        a[4 * c + 2] = v.z;
-        a[4 * c + 3] = v.w;
-      }
+      for (uint c = 0; c < WM / 4; ++c) vstore4(As4[(kk * AS_LD + c * LY * 4) / 4 + ly], c, a);
 #pragma unroll
-      for (uint c = 0; c < WN / 4; ++c) {
-        const float4 v = Bs4[(kk * BN + c * LX * 4) / 4 + lx];
-        b[4 * c] = v.x;
-        b[4 * c + 1] = v.y;
-        b[4 * c + 2] = v.z;
-        b[4 * c + 3] = v.w;
-      }
+      for (uint c = 0; c < WN / 4; ++c) vstore4(Bs4[(kk * BN + c * LX * 4) / 4 + lx], c, b);
 #else
 #pragma unroll
       for (uint i = 0; i < WM; ++i) a[i] = As[kk * AS_LD + ROW_OF(i)];
@@ -142,14 +130,8 @@ __kernel __attribute__((reqd_work_group_size(LX, LY, 1))) void gemm_tiled(
 #pragma unroll
     for (uint j = 0; j < WN; ++j) {
       const uint col = n0 + COL_OF(j);
-      if (row < M && col < N) {
-        __global float* cp = Cs + row * ldc + col;
-        float r = alpha * acc[i][j];
-        // beta == 0 must not read C: it may hold garbage (or NaN) that 0·C would propagate.
-        if (beta != 0.0f) r += beta * *cp;
-        if (use_bias) r += bias[bias_off + col];
-        *cp = apply_act(r, act);
-      }
+      if (row < M && col < N)
+        store_c(Cs + row * ldc + col, acc[i][j], alpha, beta, bias + bias_off + col, use_bias, act);
     }
   }
 }
