@@ -1,6 +1,5 @@
 // Faults a run meets (issue 16): SIGTERM, SIGKILL while training and while a checkpoint is being written, and
 // outputs that cannot be written. Each must leave a checkpoint that loads, or no file at all, and one clear line.
-#include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -18,6 +17,7 @@
 
 #include "cl/device.hpp"
 #include "nn/checkpoint.hpp"
+#include "support/background_cli.hpp"
 #include "support/cli_run_dir.hpp"
 #include "support/run_cli.hpp"
 
@@ -38,29 +38,10 @@ class FaultCli : public CliRunDir {
 
   // Starts `train` on the Cornell box in the background with its output discarded.
   pid_t start_training(const fs::path& run, bool resume) {
-    const pid_t pid = fork();
-    if (pid == 0) {
-      const int null = ::open("/dev/null", O_WRONLY);
-      dup2(null, 1);
-      dup2(null, 2);
-      if (resume)
-        execl(CLR_CLI_PATH, "clradiosity", "train", kBox.c_str(), "--resume", "--steps", "100000000", "-o", run.c_str(),
-              static_cast<char*>(nullptr));
-      else
-        execl(CLR_CLI_PATH, "clradiosity", "train", kBox.c_str(), "--steps", "100000000", "--config", config.c_str(),
-              "-o", run.c_str(), static_cast<char*>(nullptr));
-      _exit(127);
-    }
-    return pid;
+    if (resume) return spawn_cli({"train", kBox, "--resume", "--steps", "100000000", "-o", run.string()});
+    return spawn_cli({"train", kBox, "--steps", "100000000", "--config", config, "-o", run.string()});
   }
 };
-
-bool wait_for_lines(const fs::path& log, std::size_t n) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (lines_in(log) < n && std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  return lines_in(log) >= n;
-}
 
 TEST_F(FaultCli, TerminateWritesACheckpointAndExitsCleanly) {
   // SIGTERM (what `kill`, systemd and batch schedulers send) must behave as Ctrl-C does.
@@ -124,16 +105,8 @@ TEST(FaultCliPipe, AClosedStdoutEndsWithOneLine) {
 // The main job is a run like any other: a second one in the same folder is refused instead of deleting the
 // first's run, and the first signal ends the whole job (no render, no 1024-spp reference) with 128 + the signal.
 TEST_F(FaultCli, MainJobLocksItsFolderAndStopsAtTheFirstSignal) {
-  const pid_t pid = fork();
+  const pid_t pid = spawn_cli({}, dir);
   ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);
-    dup2(null, 1);
-    dup2(null, 2);
-    if (::chdir(dir.c_str()) != 0) _exit(126);
-    execl(CLR_CLI_PATH, "clradiosity", static_cast<char*>(nullptr));
-    _exit(127);
-  }
   const fs::path out = dir / "clradiosity-out";
   ASSERT_TRUE(wait_for_lines(out / "cornell-box-run" / "log.csv", 2)) << "the main job did not start logging";
   const fs::path cwd = fs::current_path();
@@ -157,16 +130,8 @@ TEST_F(FaultCli, MainJobLocksItsFolderAndStopsAtTheFirstSignal) {
 // budget would be spent at once and the learning rate never annealed.
 TEST_F(FaultCli, APauseIsNotTrainingTime) {
   const fs::path run = dir / "run";
-  const pid_t pid = fork();
+  const pid_t pid = spawn_cli({"train", kBox, "--minutes", "0.05", "--config", config, "-o", run.string()});
   ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);
-    dup2(null, 1);
-    dup2(null, 2);
-    execl(CLR_CLI_PATH, "clradiosity", "train", kBox.c_str(), "--minutes", "0.05", "--config", config.c_str(), "-o",
-          run.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
   ASSERT_TRUE(wait_for_lines(run / "log.csv", 3)) << "training did not start logging";
   ::kill(pid, SIGSTOP);
   std::this_thread::sleep_for(std::chrono::seconds(4));  // longer than the whole 3-second budget

@@ -1,19 +1,17 @@
 // `cmake --install`: the installed binary finds its data (the bundled scenes, the sweep's figure script) relative
 // to itself, so a prefix runs from any folder, moved or copied, with nothing read from the source tree.
-#include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <thread>
 
+#include "support/background_cli.hpp"
 #include "support/cli_run_dir.hpp"
 
 namespace clr::test {
@@ -58,20 +56,10 @@ TEST_F(InstallCli, AMovedPrefixRunsFromAnyFolder) {
 
   // The main job trains the installed Cornell box (the run's scene record names the scene it read); SIGTERM stops
   // it cleanly once it has logged, as the main job's own test does.
-  const pid_t pid = fork();
+  const pid_t pid = spawn_cli({}, elsewhere, binary.string());
   ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);
-    dup2(null, 1);
-    dup2(null, 2);
-    if (::chdir(elsewhere.c_str()) != 0) _exit(126);
-    execl(binary.c_str(), "clradiosity", static_cast<char*>(nullptr));
-    _exit(127);
-  }
   const fs::path run = elsewhere / "clradiosity-out" / "cornell-box-run";
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (lines_in(run / "log.csv") < 2 && std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  wait_for_lines(run / "log.csv", 2);
   EXPECT_GE(lines_in(run / "log.csv"), 2u) << "the installed main job did not start training";
   ::kill(pid, SIGTERM);
   int status = 0;

@@ -1,19 +1,17 @@
 // train / render / residual as a user runs them: signals, bad input and the files a run leaves.
-#include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <thread>
 
 #include "cl/device.hpp"
+#include "support/background_cli.hpp"
 #include "support/cli_run_dir.hpp"
 #include "support/run_cli.hpp"
 
@@ -32,20 +30,10 @@ class TrainCli : public CliRunDir {
 
 TEST_F(TrainCli, InterruptWritesACheckpointAndExitsCleanly) {
   const fs::path run = dir / "run";
-  const pid_t pid = fork();
+  const pid_t pid = spawn_cli({"train", kBox, "--steps", "100000000", "--config", config, "-o", run.string()});
   ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);
-    dup2(null, 1);
-    dup2(null, 2);
-    execl(CLR_CLI_PATH, "clradiosity", "train", kBox.c_str(), "--steps", "100000000", "--config", config.c_str(), "-o",
-          run.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
   // Wait until the run has logged a few rows, then interrupt it as Ctrl-C would.
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (lines_in(run / "log.csv") < 3 && std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  wait_for_lines(run / "log.csv", 3);
   ASSERT_GE(lines_in(run / "log.csv"), 3u) << "training did not start logging";
   ::kill(pid, SIGINT);
   int status = 0;

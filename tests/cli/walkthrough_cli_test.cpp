@@ -1,7 +1,6 @@
 // `render --path/--orbit` as a user runs it: frames into a folder, a rerun that renders only what is missing, Ctrl-C
 // that keeps finished frames, a folder of other frames refused, the video (or the message without ffmpeg), and the
 // break-even check.
-#include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -15,6 +14,7 @@
 #include <thread>
 
 #include "common/subprocess.hpp"
+#include "support/background_cli.hpp"
 #include "support/cli_run_dir.hpp"
 #include "support/run_cli.hpp"
 
@@ -84,16 +84,8 @@ TEST_F(WalkthroughCli, FramesIntoAFolderAndARerunRendersOnlyWhatIsMissing) {
 TEST_F(WalkthroughCli, InterruptKeepsFinishedFramesAndARerunCompletes) {
   const fs::path frames = dir / "frames";
   const std::string args = "--orbit 1500 --width 32 --height 32 --spp 2 -o " + frames.string();
-  const pid_t pid = fork();
+  const pid_t pid = spawn_cli(words(render(args)));
   ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);
-    dup2(null, 1);
-    dup2(null, 2);
-    execl("/bin/sh", "sh", "-c", ("exec " + std::string(CLR_CLI_PATH) + " " + render(args)).c_str(),
-          static_cast<char*>(nullptr));
-    _exit(127);
-  }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   while ((!fs::exists(frames) || count(frames, ".exr") < 20) && std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -191,16 +183,8 @@ TEST_F(WalkthroughCli, UnusableReferenceAndBreakEvenInputsAreRefusedFirst) {
 // nothing): a render, which has no safe point to stop at, ends by the signal's default action.
 TEST_F(WalkthroughCli, SignalsAreNotSwallowedByTheRuntime) {
   for (const int sig : {SIGUSR1, SIGQUIT}) {
-    const pid_t pid = fork();
-    if (pid == 0) {
-      const int null = ::open("/dev/null", O_WRONLY);
-      dup2(null, 1);
-      dup2(null, 2);
-      const std::string out = (dir / "long.exr").string();
-      execl(CLR_CLI_PATH, "clradiosity", "render", kBox.c_str(), "--model", run.c_str(), "--spp", "65536", "--width",
-            "256", "--height", "256", "-o", out.c_str(), static_cast<char*>(nullptr));
-      _exit(127);
-    }
+    const pid_t pid = spawn_cli({"render", kBox, "--model", run, "--spp", "65536", "--width", "256", "--height", "256",
+                                 "-o", (dir / "long.exr").string()});
     ASSERT_GT(pid, 0);
     std::this_thread::sleep_for(std::chrono::seconds(4));  // the runtime loaded, kernels built, rendering
     ::kill(pid, sig);

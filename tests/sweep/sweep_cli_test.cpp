@@ -1,7 +1,6 @@
 // `clradiosity sweep` as a user runs it, on the bundled Cornell box at 16×16 with a tiny network: the rows, the
 // tables and the figures it leaves, a rerun that trains nothing again, Ctrl-C and a rerun that completes, and
 // bad options.
-#include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -13,12 +12,12 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <thread>
 #include <tuple>
 
 #include "cl/device.hpp"
 #include "image/image.hpp"
+#include "support/background_cli.hpp"
 #include "support/cli_run_dir.hpp"
 #include "support/run_cli.hpp"
 #include "sweep/results_csv.hpp"
@@ -166,22 +165,8 @@ TEST_F(SweepCli, TrainsEachConfigurationOnceAndRerunsNothing) {
 
 TEST_F(SweepCli, InterruptKeepsFinishedRowsAndARerunCompletes) {
   const fs::path out = dir / "sweep";
-  // The test's paths have no spaces: the words of the command line are its arguments.
-  std::vector<std::string> words = {CLR_CLI_PATH};
-  std::istringstream split(args(out, "0.01,0.03"));
-  for (std::string w; split >> w;) words.push_back(w);
-  const pid_t pid = fork();
+  const pid_t pid = spawn_cli(words(args(out, "0.01,0.03")));
   ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);
-    dup2(null, 1);
-    dup2(null, 2);
-    std::vector<char*> argv;
-    for (auto& w : words) argv.push_back(w.data());
-    argv.push_back(nullptr);
-    execv(CLR_CLI_PATH, argv.data());
-    _exit(127);
-  }
   // ISNR trains first and its rows appear when its run is done; NR then trains for 1.8 s. Ctrl-C once NR's log
   // shows 0.9 s of training lands in it, past its first budget's snapshot and half way to its last.
   const fs::path nr_log = out / "runs" / "nr-n4-seed1" / "train" / "log.csv";
