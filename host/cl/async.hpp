@@ -59,10 +59,9 @@ class PinnedMemory {
     pinned_ =
         MemHandle(clCreateBuffer(ctx.get(), access | CL_MEM_ALLOC_HOST_PTR, capacity_ * sizeof(T), nullptr, &status));
     CLR_CL_CHECK(status);
-    queue_ = ctx.queue();
     ctx_ = &ctx;
-    void* p =
-        clEnqueueMapBuffer(queue_, pinned_.get(), CL_TRUE, map, 0, capacity_ * sizeof(T), 0, nullptr, nullptr, &status);
+    void* p = clEnqueueMapBuffer(ctx.queue(), pinned_.get(), CL_TRUE, map, 0, capacity_ * sizeof(T), 0, nullptr,
+                                 nullptr, &status);
     CLR_CL_CHECK(status);
     mapped_ = static_cast<T*>(p);
   }
@@ -71,7 +70,7 @@ class PinnedMemory {
   // at teardown of a broken context) is ignored.
   void release() noexcept {
     if (!pinned_) return;
-    if (mapped_) clEnqueueUnmapMemObject(queue_, pinned_.get(), mapped_, 0, nullptr, nullptr);
+    if (mapped_) clEnqueueUnmapMemObject(ctx_->queue(), pinned_.get(), mapped_, 0, nullptr, nullptr);
     mapped_ = nullptr;
     last_ = EventHandle();
     pinned_ = MemHandle();
@@ -79,8 +78,7 @@ class PinnedMemory {
   }
 
   MemHandle pinned_;
-  cl_command_queue queue_ = nullptr;
-  const Context* ctx_ = nullptr;  // where the time blocked in wait() is counted
+  const Context* ctx_ = nullptr;  // the queue of the mapping, and where the time blocked in wait() is counted
   T* mapped_ = nullptr;
   std::size_t capacity_ = 0;
   EventHandle last_;

@@ -25,10 +25,7 @@ Context::Context(DeviceInfo device) : device_(std::move(device)) {
 }
 
 Context::~Context() {
-  for (const Timed& t : timed_) {
-    if (t.opened) clReleaseEvent(t.opened);
-    if (t.command) clReleaseEvent(t.command);
-  }
+  for (const Timed& t : timed_) t.release();
 }
 
 void Context::finish() const { CLR_CL_CHECK(clFinish(queue_.get())); }
@@ -91,10 +88,7 @@ double Context::take_device_seconds() {
     timed.swap(timed_);  // the destructor releases them
     throw;
   }
-  for (const Timed& t : timed) {
-    if (t.opened) clReleaseEvent(t.opened);
-    if (t.command) clReleaseEvent(t.command);
-  }
+  for (const Timed& t : timed) t.release();
   return 1e-9 * double(busy_ns);
 }
 

@@ -69,6 +69,10 @@ class Context {
   struct Timed {
     cl_event opened = nullptr;  // a marker whose end opens the span; null: the command's own start does
     cl_event command = nullptr;
+    void release() const {
+      if (opened) clReleaseEvent(opened);
+      if (command) clReleaseEvent(command);
+    }
   };
   bool recording_ = false;
   mutable double waited_s_ = 0;

@@ -149,9 +149,9 @@ int run(int argc, char** argv) {
   };
   // pbrt's --quiet: no progress and no informational lines on stderr; results (stdout) and errors stay.
   bool quiet = false;
-  app.add_flag("-q,--quiet", quiet, "No progress or informational lines on stderr (results and errors stay)");
-  for (const auto& c : commands)
-    c.app->add_flag("-q,--quiet", quiet, "No progress or informational lines on stderr (results and errors stay)");
+  constexpr const char* kQuietHelp = "No progress or informational lines on stderr (results and errors stay)";
+  app.add_flag("-q,--quiet", quiet, kQuietHelp);
+  for (const auto& c : commands) c.app->add_flag("-q,--quiet", quiet, kQuietHelp);
 
   std::string command;  // names the options to lower when memory runs out
   try {

@@ -125,22 +125,14 @@ BatchSettings Trainer::settings_for(std::uint64_t step) const {
 
 void Trainer::prepare_ahead(std::uint64_t step) {
   const BatchSettings settings = settings_for(step);
-  if (next_points_ == step) {
-    std::swap(batch_, next_batch_);
-    next_points_.reset();
-  } else {
-    sample_training_points(sampler_, geometry_->scene(), settings, config_.seed, step, batch_);
-  }
+  take_points(step, settings);
   // ISNR guides a share 1 - c of the directions from the first step on (the warm-up ramps c down from 1). Without
   // the lag those need step k+1's lobes, i.e. the I-Module after step k's update: only a run with c = 1 throughout
   // traces ahead. With the lag they were drawn early in step k and are read back by now.
   const bool trace = lagged() || (!IncidentSampling::guided(settings) && (!guide_ || config_.bsdf_fraction >= 1.0));
   if (trace) incident_.trace(*geometry_, settings, config_.seed, step, batch_);
   // The lag draws the lobes of step k+2 during step k+1: their points are drawn now, on the host's time.
-  if (lagged() && continues_after(step)) {
-    sample_training_points(sampler_, geometry_->scene(), settings, config_.seed, step + 1, next_batch_);
-    next_points_ = step + 1;
-  }
+  if (lagged() && continues_after(step)) draw_next_points(step + 1, settings);
   prepared_ = Prepared{step, settings, trace};
 }
 
@@ -159,22 +151,9 @@ StepStats Trainer::step() {
   }
   if (ahead) ++steps_prepared_ahead_;
   const bool pipelined = schedule_ == StepSchedule::Pipelined;
-  if (!ahead) {
-    if (next_points_ == step) {
-      std::swap(batch_, next_batch_);
-      next_points_.reset();
-    } else {
-      sample_training_points(sampler_, geometry_->scene(), batch_settings_, config_.seed, step, batch_);
-    }
-  }
+  if (!ahead) take_points(step, batch_settings_);
   const std::size_t M = batch_.points, N = batch_.samples;
-  {
-    const StageTimer timer(batch_, &HostStageTimes::uploads, ctx_);
-    if (pipelined)
-      point_rows_up_.send(*ctx_, point_rows_, batch_.point_rows);
-    else
-      cl::upload(*ctx_, point_rows_, batch_.point_rows);
-  }
+  upload_rows(batch_, point_rows_up_, point_rows_);
   if (batch_.times) ++batch_.times->steps;
   // The I-Module's lobes at the points, activations kept for its backward.
   if (guide_) {
@@ -243,6 +222,29 @@ StepStats Trainer::step() {
   return stats;
 }
 
+void Trainer::take_points(std::uint64_t step, const BatchSettings& settings) {
+  if (next_points_ == step) {
+    std::swap(batch_, next_batch_);
+    next_points_.reset();
+  } else {
+    sample_training_points(sampler_, geometry_->scene(), settings, config_.seed, step, batch_);
+  }
+}
+
+void Trainer::draw_next_points(std::uint64_t step, const BatchSettings& settings) {
+  if (next_points_ == step) return;
+  sample_training_points(sampler_, geometry_->scene(), settings, config_.seed, step, next_batch_);
+  next_points_ = step;
+}
+
+void Trainer::upload_rows(const TrainingBatch& batch, cl::PinnedUpload<float>& pinned, cl::Buffer<float>& rows) {
+  const StageTimer timer(batch, &HostStageTimes::uploads, ctx_);
+  if (schedule_ == StepSchedule::Pipelined)
+    pinned.send(*ctx_, rows, batch.point_rows);
+  else
+    cl::upload(*ctx_, rows, batch.point_rows);
+}
+
 void Trainer::draw_lagged_lobes(std::uint64_t step) {
   const std::size_t M = batch_.points;
   if (!incident_.drawn_ahead(step)) {
@@ -259,17 +261,8 @@ void Trainer::draw_lagged_lobes(std::uint64_t step) {
   if (!continues_after(step)) return;
   // Step k+1's lobes from the I-Module before this step's update, its directions drawn and read back while the
   // device goes on with this step's networks.
-  if (next_points_ != step + 1) {
-    sample_training_points(sampler_, geometry_->scene(), batch_settings_, config_.seed, step + 1, next_batch_);
-    next_points_ = step + 1;
-  }
-  {
-    const StageTimer timer(next_batch_, &HostStageTimes::uploads, ctx_);
-    if (schedule_ == StepSchedule::Pipelined)
-      next_rows_up_.send(*ctx_, next_rows_, next_batch_.point_rows);
-    else
-      cl::upload(*ctx_, next_rows_, next_batch_.point_rows);
-  }
+  draw_next_points(step + 1, batch_settings_);
+  upload_rows(next_batch_, next_rows_up_, next_rows_);
   cl::reserve(*ctx_, next_raw_, M * kVmfRaw);
   guide_->infer(next_rows_, M, next_raw_);
   incident_.draw_ahead(next_raw_, next_batch_, config_.seed, step + 1);

@@ -119,6 +119,13 @@ class Trainer {
   // The lagged guide's device work early in `step`: the lobes its directions come from where none were drawn
   // ahead, then step + 1's lobes and directions (read back without blocking).
   void draw_lagged_lobes(std::uint64_t step);
+  // Step `step`'s points into batch_: those the lag drew ahead for it into next_batch_, else drawn now.
+  void take_points(std::uint64_t step, const BatchSettings& settings);
+  // Step `step`'s points into next_batch_, unless they are there already.
+  void draw_next_points(std::uint64_t step, const BatchSettings& settings);
+  // A batch's point rows to the device (through pinned memory without blocking in the pipelined schedule), timed
+  // as its upload stage.
+  void upload_rows(const TrainingBatch& batch, cl::PinnedUpload<float>& pinned, cl::Buffer<float>& rows);
 
   cl::Context* ctx_;
   const geometry::Geometry* geometry_;

@@ -55,12 +55,17 @@ void IncidentSampling::draw_ahead(const cl::Buffer<float>& raw, const TrainingBa
   const std::size_t M = next.points, N = next.samples;
   upload_normals(next);
   next_->decode(raw, normals_, M);
-  guide_uniforms(M, N, seed, step, uniforms_host_, next.first_point);
-  put(uniforms_up_, uniforms_, uniforms_host_);
-  cl::reserve(*ctx_, guided_, M * N * 3);
-  next_->sample(uniforms_, N, guided_);
+  draw(*next_, next, seed, step);
   ahead_read_.start(*ctx_, guided_, M * N * 3);
   ahead_ = Ahead{step, false};
+}
+
+void IncidentSampling::draw(VmfMixture& lobes, const TrainingBatch& batch, std::uint64_t seed, std::uint64_t step) {
+  const std::size_t M = batch.points, N = batch.samples;
+  guide_uniforms(M, N, seed, step, uniforms_host_, batch.first_point);
+  put(uniforms_up_, uniforms_, uniforms_host_);
+  cl::reserve(*ctx_, guided_, M * N * 3);
+  lobes.sample(uniforms_, N, guided_);
 }
 
 void IncidentSampling::collect_ahead() {
@@ -83,11 +88,7 @@ void IncidentSampling::trace(const geometry::Geometry& geometry, const BatchSett
     if (drawn_ahead(step)) {
       collect_ahead();  // waits only for the device's work up to the draw, early in the step before
     } else {
-      // A direction from the lobes for every sample; the host uses those of the samples that pick the guide.
-      guide_uniforms(M, N, seed, step, uniforms_host_, batch.first_point);
-      put(uniforms_up_, uniforms_, uniforms_host_);
-      cl::reserve(*ctx_, guided_, M * N * 3);
-      sampler().sample(uniforms_, N, guided_);
+      draw(sampler(), batch, seed, step);
       guided_host_.resize(M * N * 3);
       guided_.read(std::span<float>(guided_host_));
     }

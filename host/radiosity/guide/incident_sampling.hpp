@@ -81,6 +81,9 @@ class IncidentSampling {
   VmfMixture& sampler() { return sampling_ ? *sampling_ : vmf_; }
   // The directions drawn ahead, copied out of pinned memory (before the next draw reuses it) for their step.
   void collect_ahead();
+  // A direction from `lobes` for every sample of `batch` into guided_, on the device; the host uses those of the
+  // samples that pick the guide.
+  void draw(VmfMixture& lobes, const TrainingBatch& batch, std::uint64_t seed, std::uint64_t step);
 
   cl::Context* ctx_;
   VmfMixture vmf_;
