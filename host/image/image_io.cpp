@@ -32,6 +32,18 @@ std::string file_bytes(const fs::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// zlib's best ratio (deflate of runs), the bound for every zlib-compressed format below.
+constexpr std::uint64_t kZlibMaxRatio = 1032;
+
+// A header announcing more pixels than the file's bytes can encode (`fewest`, from its format's best compression)
+// is refused before its pixels are allocated.
+void require_bytes(const std::string& what, int w, int h, std::uint64_t size, std::uint64_t fewest) {
+  if (size < fewest)
+    throw InputError(what + ": its header announces " + std::to_string(w) + "x" + std::to_string(h) +
+                     " pixels, more than its " + std::to_string(size) + " bytes can hold (at least " +
+                     std::to_string(fewest) + ")");
+}
+
 // The fewest bytes a file of `w` × `h` pixels in its format can hold, from the format's best compression: a header
 // that announces more pixels than its bytes can encode is refused before its pixels are allocated (a 116-byte
 // .hdr announcing 16384 × 8192 would otherwise cost 1.5 GiB). Formats without a useful bound give 0 (their size
@@ -46,7 +58,7 @@ std::uint64_t fewest_bytes(const std::string& bytes, long long w, long long h) {
   }
   if (bytes.starts_with("\x89PNG")) {
     // At least one bit a pixel and a filter byte a row, deflated at most 1032:1 (zlib's limit).
-    return H * (1 + (W + 7) / 8) / 1032;
+    return H * (1 + (W + 7) / 8) / kZlibMaxRatio;
   }
   if (bytes.starts_with("P5") || bytes.starts_with("P6")) return W * H * (bytes[1] == '6' ? 3 : 1);  // raw PNM
   return 0;
@@ -86,11 +98,7 @@ void check_stb_header(const std::string& bytes, const fs::path& path, int& w, in
                              int(std::min<std::size_t>(bytes.size(), INT32_MAX)), &w, &h, &n))
     throw InputError("cannot read image " + path.string() + ": " + stbi_failure_reason());
   check_image_size(w, h, "image " + path.string());
-  const std::uint64_t fewest = fewest_bytes(bytes, w, h);
-  if (bytes.size() < fewest)
-    throw InputError("image " + path.string() + ": its header announces " + std::to_string(w) + "x" +
-                     std::to_string(h) + " pixels, more than its " + std::to_string(bytes.size()) +
-                     " bytes can hold (at least " + std::to_string(fewest) + ")");
+  require_bytes("image " + path.string(), w, h, bytes.size(), fewest_bytes(bytes, w, h));
 }
 
 void check_not_starved(const StbSource& source, const fs::path& path) {
@@ -133,13 +141,9 @@ Image read_exr(const fs::path& path) {
       const std::uint64_t fewest = compression == Imf::NO_COMPRESSION ? raw
                                    : compression == Imf::RLE_COMPRESSION || compression == Imf::ZIPS_COMPRESSION ||
                                            compression == Imf::ZIP_COMPRESSION
-                                       ? raw / 1032
+                                       ? raw / kZlibMaxRatio
                                        : 0;
-      const auto size = fs::file_size(path);
-      if (size < fewest)
-        throw InputError("EXR " + path.string() + ": its header announces " + std::to_string(w) + "x" +
-                         std::to_string(h) + " pixels, more than its " + std::to_string(size) +
-                         " bytes can hold (at least " + std::to_string(fewest) + ")");
+      require_bytes("EXR " + path.string(), w, h, fs::file_size(path), fewest);
     }
     // RGB, or a single luminance channel Y; a missing channel copies the first one.
     const bool luminance = !channels.findChannel("R");

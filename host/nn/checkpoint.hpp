@@ -26,6 +26,11 @@ struct Checkpoint {
 
   // The tensor called `name` with exactly `count` values; throws InputError naming `path` otherwise.
   const std::vector<float>& tensor(const std::string& path, const std::string& name, std::size_t count) const;
+  bool has(const std::string& name) const {
+    for (const auto& t : tensors)
+      if (t.first == name) return true;
+    return false;
+  }
 };
 
 // Writes under a temporary name, then renames over PATH: a crash never leaves a half-written PATH.

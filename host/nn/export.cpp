@@ -6,37 +6,14 @@
 namespace clr::nn {
 namespace {
 
-struct Layer {
-  std::size_t inputs, outputs, offset;  // offset: W's first value in the flat buffer; b follows W
-};
-
-// The flat layout of Mlp (nn/mlp.hpp): per layer W as [fan_in × fan_out] row-major, then b [fan_out].
-std::vector<Layer> mlp_layers(const NetworkConfig& c) {
-  std::vector<Layer> layers;
-  std::size_t offset = 0;
-  for (std::size_t l = 0; l <= c.hidden_layers; ++l) {
-    const std::size_t in = l == 0 ? encoded_columns(c.encoder) : c.width;
-    const std::size_t out = l == c.hidden_layers ? c.outputs : c.width;
-    layers.push_back({in, out, offset});
-    offset += in * out + out;
-  }
-  return layers;
-}
-
 std::string layer_name(std::size_t l, const char* what) { return "mlp.layers." + std::to_string(l) + "." + what; }
 std::string level_name(std::size_t l) { return "grid.levels." + std::to_string(l); }
 
-bool has(const Checkpoint& c, const std::string& name) {
-  for (const auto& t : c.tensors)
-    if (t.first == name) return true;
-  return false;
-}
-
 void split_mlp(const std::vector<float>& flat, const NetworkConfig& config, const std::string& prefix,
                SafeTensors& out) {
-  const auto layers = mlp_layers(config);
+  const auto layers = mlp_layer_shapes(config);
   for (std::size_t l = 0; l < layers.size(); ++l) {
-    const Layer& layer = layers[l];
+    const MlpLayerShape& layer = layers[l];
     SafeTensor w{prefix + layer_name(l, "weight"), {layer.outputs, layer.inputs}, {}};
     w.values.resize(layer.inputs * layer.outputs);
     for (std::size_t i = 0; i < layer.inputs; ++i)
@@ -72,12 +49,12 @@ void add_network_tensors(const Checkpoint& c, const std::string& path, const Net
     if (!state.empty() && !optimizer_state) continue;
     const std::string suffix = state.empty() ? "" : "." + state.substr(0, state.size() - 1);  // ".adam.m"
     const std::string mlp_name = prefix + "mlp" + (state.empty() ? ".params" : suffix);
-    if (state.empty() || has(c, mlp_name)) {
+    if (state.empty() || c.has(mlp_name)) {
       split_mlp(c.tensor(path, mlp_name, mlp), config, prefix + state, out);
       taken.insert(mlp_name);
     }
     const std::string grid_name = prefix + "grid" + (state.empty() ? ".table" : suffix);
-    if (grid && (state.empty() || has(c, grid_name))) {
+    if (grid && (state.empty() || c.has(grid_name))) {
       split_grid(c.tensor(path, grid_name, grid), config, prefix + state, out);
       taken.insert(grid_name);
     }
@@ -141,7 +118,7 @@ nlohmann::ordered_json describe_network(const NetworkConfig& config, const std::
     if (on) encoding.push_back({{"part", "identity"}, {"input", input}, {"columns", columns(n)}});
 
   json layers = json::array();
-  const auto shapes = mlp_layers(config);
+  const auto shapes = mlp_layer_shapes(config);
   for (std::size_t l = 0; l < shapes.size(); ++l) {
     const bool last = l + 1 == shapes.size();
     layers.push_back({{"weight", prefix + layer_name(l, "weight")},

@@ -261,14 +261,21 @@ std::size_t encoded_columns(const EncoderConfig& e) {
          (e.albedo ? 3 : 0) + (e.roughness ? 1 : 0);
 }
 
-std::size_t mlp_parameter_count(const NetworkConfig& c) {
-  const std::size_t inputs = encoded_columns(c.encoder);
-  std::size_t total = 0;
+std::vector<MlpLayerShape> mlp_layer_shapes(const NetworkConfig& c) {
+  std::vector<MlpLayerShape> layers;
+  std::size_t offset = 0;
   for (std::size_t l = 0; l <= c.hidden_layers; ++l) {
-    const std::size_t in = l == 0 ? inputs : c.width, out = l == c.hidden_layers ? c.outputs : c.width;
-    total += in * out + out;
+    const std::size_t in = l == 0 ? encoded_columns(c.encoder) : c.width;
+    const std::size_t out = l == c.hidden_layers ? c.outputs : c.width;
+    layers.push_back({in, out, offset});
+    offset += in * out + out;
   }
-  return total;
+  return layers;
+}
+
+std::size_t mlp_parameter_count(const NetworkConfig& c) {
+  const MlpLayerShape last = mlp_layer_shapes(c).back();
+  return last.offset + last.inputs * last.outputs + last.outputs;
 }
 
 Network::Network(cl::Context& ctx, NetworkConfig config)

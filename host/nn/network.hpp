@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "cl/buffer.hpp"
 #include "cl/context.hpp"
@@ -43,6 +44,12 @@ nlohmann::json to_json(const NetworkConfig& c);
 // The MLP's and the hash-grid table's parameter counts for a config, without building anything (a checkpoint's
 // tensors are checked against them before its config allocates device memory). Network::parameter_count's twin.
 std::size_t mlp_parameter_count(const NetworkConfig& c);
+// Layer l of a config's MLP (fan_in → fan_out) and where its W starts in the flat parameters, b following W
+// (nn/mlp.hpp's layout): the checkpoint's count above and the export's tensors read it.
+struct MlpLayerShape {
+  std::size_t inputs, outputs, offset;
+};
+std::vector<MlpLayerShape> mlp_layer_shapes(const NetworkConfig& c);
 // The encoder's output columns (the MLP's inputs) for a config, as Encoder lays them out: grid features, SH of ω_o
 // and of n (16 each), albedo (3), roughness (1).
 std::size_t encoded_columns(const EncoderConfig& e);

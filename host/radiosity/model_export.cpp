@@ -15,12 +15,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool has(const nn::Checkpoint& c, const std::string& name) {
-  for (const auto& t : c.tensors)
-    if (t.first == name) return true;
-  return false;
-}
-
 // A config from JSON, its faults named with `where`.
 nn::NetworkConfig network_config(const nlohmann::json& j, const std::string& where) {
   try {
@@ -45,7 +39,7 @@ nn::SafeTensors export_model(const fs::path& run, bool optimizer_state) {
   nlohmann::json settings;
   if (fs::exists(RunDirectory::config_path(dir)))
     settings = read_json_file(RunDirectory::config_path(dir), "run config");
-  const bool guided = has(c, "guide.mlp.params");
+  const bool guided = c.has("guide.mlp.params");
   std::optional<nn::NetworkConfig> guide;
   if (guided) {
     if (!settings.is_object() || !settings.contains("guide"))
@@ -62,7 +56,7 @@ nn::SafeTensors export_model(const fs::path& run, bool optimizer_state) {
   if (guide) {
     nn::add_network_tensors(c, file, *guide, "guide.", optimizer_state, out, taken);
     networks["i_module"] = nn::describe_network(*guide, "guide.");
-    if (has(c, "guide_before.mlp.params")) {
+    if (c.has("guide_before.mlp.params")) {
       // Parameters only: the copy is evaluated, never trained (radiosity/trainer.hpp's lagged guide).
       nn::add_network_tensors(c, file, *guide, "guide_before.", false, out, taken);
       networks["i_module_before_update"] = nn::describe_network(*guide, "guide_before.");

@@ -298,10 +298,7 @@ std::unique_ptr<nn::Network> RunDirectory::load_guide_before(cl::Context& ctx, c
                                                              const nn::NetworkConfig& guide) {
   const std::string file = model_path(run).string();
   const nn::Checkpoint c = nn::read_checkpoint(file);
-  const auto has = [&](const std::string& name) {
-    return std::any_of(c.tensors.begin(), c.tensors.end(), [&](const auto& t) { return t.first == name; });
-  };
-  if (!has(std::string(kGuideBefore) + "mlp.params")) return nullptr;
+  if (!c.has(std::string(kGuideBefore) + "mlp.params")) return nullptr;
   auto network = std::make_unique<nn::Network>(ctx, guide);
   network->restore_parameters(c, file, kGuideBefore);
   return network;
