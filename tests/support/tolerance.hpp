@@ -25,12 +25,16 @@ inline ::testing::AssertionResult near(double got, double want, Tolerance tol = 
   return ::testing::AssertionFailure() << "got " << got << ", want " << want << " (|err| " << err << ")";
 }
 
+// `extra_abs`, where given, adds an absolute allowance of each element's own to `tol` (a reduced-precision kernel's
+// error bound, which depends on the element's terms).
 template <typename Got, typename Want>
-::testing::AssertionResult all_near(std::span<const Got> got, std::span<const Want> want,
-                                    Tolerance tol = kFloatKernel) {
+::testing::AssertionResult all_near(std::span<const Got> got, std::span<const Want> want, Tolerance tol = kFloatKernel,
+                                    std::span<const double> extra_abs = {}) {
   if (got.size() != want.size()) return ::testing::AssertionFailure() << "size " << got.size() << " vs " << want.size();
-  for (std::size_t i = 0; i < got.size(); ++i)
-    if (auto r = near(double(got[i]), double(want[i]), tol); !r) return r << " at index " << i;
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    const Tolerance t{tol.rel, tol.abs + (extra_abs.empty() ? 0.0 : extra_abs[i])};
+    if (auto r = near(double(got[i]), double(want[i]), t); !r) return r << " at index " << i;
+  }
   return ::testing::AssertionSuccess();
 }
 
