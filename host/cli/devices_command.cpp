@@ -4,27 +4,11 @@
 #include <nlohmann/json.hpp>
 
 #include "cl/device.hpp"
+#include "cl/device_json.hpp"
 #include "cli/command.hpp"
 
 namespace clr::cli {
 namespace {
-
-nlohmann::json to_json(const cl::DeviceInfo& d, bool is_default) {
-  return {{"index", d.spec()},
-          {"platform", d.platform_name},
-          {"name", d.name},
-          {"type", cl::type_name(d.type)},
-          {"compute_units", d.compute_units},
-          {"global_mem_bytes", d.global_mem_bytes},
-          {"max_alloc_bytes", d.max_alloc_bytes},
-          {"opencl_c_version", d.opencl_c_version},
-          {"driver", d.driver_version},
-          {"float_atomics", d.float_atomics},
-          {"fp16", d.fp16},
-          {"nv_compute_capability",
-           d.nv_compute_capability ? nlohmann::json(d.nv_compute_capability / 10.0) : nlohmann::json()},
-          {"default", is_default}};
-}
 
 std::string gib(std::uint64_t bytes) {
   char s[32];
@@ -53,7 +37,7 @@ Command add_devices_command(CLI::App& app) {
 
             if (opt->json) {
               auto out = nlohmann::json::array();
-              for (const auto& d : devices) out.push_back(to_json(d, d.device == chosen.device));
+              for (const auto& d : devices) out.push_back(cl::to_json(d, d.device == chosen.device));
               std::cout << out.dump(2) << "\n";
               return 0;
             }

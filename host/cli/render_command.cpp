@@ -120,20 +120,7 @@ int render_walkthrough(const Options& opt, const scene::Scene& scene, const geom
 
 int render_image(Options& opt, scene::Scene& scene) {
   if (opt.camera.empty()) scene::require_sensor(scene, opt.scene);
-  if (!opt.camera.empty()) {
-    const auto& c = opt.camera;
-    const auto frame = scene::look_at({c[0], c[1], c[2]}, {c[3], c[4], c[5]}, {c[6], c[7], c[8]});
-    if (!frame || !(c[9] > 0 && c[9] < 180))
-      throw InputError(
-          "--camera: origin and target must differ, up must not be parallel to the view, and fov must be in (0, "
-          "180)");
-    scene.camera.to_world = *frame;
-    scene.camera.fov_degrees = c[9];
-    scene.camera.fov_axis = scene::Camera::FovAxis::y;
-    scene.camera.projection = scene::Camera::Projection::perspective;
-    scene.camera.aperture_radius = 0;
-    scene.camera.validate("--camera");
-  }
+  if (!opt.camera.empty()) scene.camera = scene.camera.pinhole_view(opt.camera, "--camera");
   // The model's renderer traces pinhole rays; depth of field is the reference's alone.
   if (scene.camera.aperture_radius > 0)
     throw InputError(opt.scene +

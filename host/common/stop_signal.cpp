@@ -44,4 +44,19 @@ int stop_signal() { return g_signal.load(); }
 unsigned continue_count() { return g_continued.load(); }
 void request_stop() { g_stop.store(true); }
 
+StopHandlerScope::StopHandlerScope() {
+  struct sigaction ours {};
+  ours.sa_handler = on_stop_signal;
+  sigemptyset(&ours.sa_mask);
+  sigaction(SIGINT, &ours, &interrupt_);
+  sigaction(SIGTERM, &ours, &terminate_);
+}
+
+StopHandlerScope::~StopHandlerScope() {
+  sigaction(SIGINT, &interrupt_, nullptr);
+  sigaction(SIGTERM, &terminate_, nullptr);
+  g_stop.store(false);
+  g_signal.store(0);
+}
+
 }  // namespace clr

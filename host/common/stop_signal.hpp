@@ -3,6 +3,8 @@
 // trainer writes a checkpoint) instead of killing the process mid-write; the process then exits 128 + the signal's
 // number (130, 143), as a shell reports a process the signal ended, so that `train && render` does not go on. A second
 // signal falls back to the default action.
+#include <csignal>
+
 namespace clr {
 
 void install_stop_handlers();
@@ -17,5 +19,20 @@ void request_stop();  // what the handlers do; also for tests
 // How often the process was continued after a stop (SIGSTOP, Ctrl-Z, a debugger) since the handlers were installed:
 // work that times itself sees the pause inside the interval in which this count changed.
 unsigned continue_count();
+
+// For a process whose signal handlers are its own (Python, which embeds the module): SIGINT and SIGTERM ask long
+// work to stop, as in the CLI, for the scope's length only; the process's handlers come back after it and the stop
+// is forgotten, so that the next call starts afresh. Read stop_signal() before the scope ends.
+class StopHandlerScope {
+ public:
+  StopHandlerScope();
+  ~StopHandlerScope();
+  StopHandlerScope(const StopHandlerScope&) = delete;
+  StopHandlerScope& operator=(const StopHandlerScope&) = delete;
+
+ private:
+  struct sigaction interrupt_ {
+  }, terminate_{};
+};
 
 }  // namespace clr

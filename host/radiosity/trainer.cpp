@@ -368,7 +368,7 @@ void Trainer::run(const RunOptions& options) {
     if (guide_) guide_->set_learning_rate_scale(float(lr_scale));
     residual_power_ = float(config_.relative_power(fraction));
     if (guide_) batch_settings_.bsdf_fraction = float(config_.bsdf_fraction_at(fraction));
-    const StepStats stats = step();
+    const StepStats stats = last_step_ = step();
     lookups += stats.lookups;
     guided += stats.guided;
     ++loss_steps;

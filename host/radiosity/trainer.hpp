@@ -90,6 +90,8 @@ class Trainer {
   double seconds_trained() const { return seconds_before_ + seconds_this_session_; }
 
   std::uint64_t steps_done() const { return network_->steps(); }
+  // The figures of the step run() took last (what a caller's after_step reports).
+  const StepStats& last_step() const { return last_step_; }
   const TrainConfig& config() const { return config_; }
   nn::Network& network() { return *network_; }
   nn::Network* guide() { return guide_.get(); }  // null for method nr
@@ -129,6 +131,7 @@ class Trainer {
 
   cl::Context* ctx_;
   const geometry::Geometry* geometry_;
+  StepStats last_step_;
   geometry::SurfaceSampler sampler_;
   TrainConfig config_;
   std::optional<RunDirectory> run_;  // rank 0's; the other ranks write nothing

@@ -4,6 +4,7 @@
 // same with a circular aperture focused at `focus_distance`) and `orthographic` (parallel rays through the
 // to_world image of [-1, 1] × [-h/w, h/w]).
 #include <optional>
+#include <span>
 #include <string>
 
 #include "scene/frame.hpp"
@@ -38,6 +39,9 @@ struct Camera {
   // InputError "<what>: …" unless the camera can make rays: a finite origin within ±kMaxCoordinate, a finite,
   // non-degenerate view direction and a field of view in (0, 180) degrees.
   void validate(const std::string& what) const;
+  // Another pinhole view of the same film: origin, target and up (9 numbers), then the vertical field of view in
+  // degrees (`render --camera`, the Python module's `camera=`). InputError "<what>: …" when they make no view.
+  Camera pinhole_view(std::span<const float> view, const std::string& what) const;
 };
 
 // Mitsuba's look-at frame as a to_world matrix: +z towards the target, +x = up × z (the image's left), +y the image's

@@ -18,6 +18,7 @@
 #include "support/cl_fixture.hpp"
 #include "support/cli_run_dir.hpp"
 #include "support/run_cli.hpp"
+#include "support/test_python.hpp"
 
 namespace clr::test {
 namespace {
@@ -76,14 +77,6 @@ std::vector<float> infer(cl::Context& ctx, nn::Network& network, const std::vect
   return out.read();
 }
 
-// The venv with safetensors and numpy (.ci/install-python-test-deps), or "" where it cannot be made.
-std::string python() {
-  const std::string venv = CLR_PYTHON_VENV, py = venv + "/bin/python";
-  const std::string install = "bash '" CLR_SOURCE_DIR "/.ci/install-python-test-deps' '" + venv + "' >/dev/null 2>&1";
-  if (std::system(install.c_str()) != 0) return "";
-  return std::system(("'" + py + "' -c 'import safetensors, numpy' 2>/dev/null").c_str()) == 0 ? py : "";
-}
-
 TEST_F(ExportCli, NumpyEvaluatesEveryNetworkAsTheEngineDoes) {
   const fs::path run = train();
   const fs::path model = dir / "model.safetensors";
@@ -91,7 +84,7 @@ TEST_F(ExportCli, NumpyEvaluatesEveryNetworkAsTheEngineDoes) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   cl::Context* ctx = shared_context();
   if (!ctx) GTEST_SKIP() << "no OpenCL device";
-  const std::string py = python();
+  const std::string py = test_python();
   if (py.empty()) GTEST_SKIP() << "safetensors and numpy could not be installed into " CLR_PYTHON_VENV " (pip)";
 
   const auto rows = random_rows(384);

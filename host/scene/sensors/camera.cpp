@@ -41,6 +41,27 @@ Vec2 square_to_disk(const Vec2& u) {
 }
 }  // namespace
 
+Camera Camera::pinhole_view(std::span<const float> c, const std::string& what) const {
+  if (c.size() != 10)
+    throw InputError(what + ": give 10 numbers (origin, target, up, vertical fov in degrees), not " +
+                     std::to_string(c.size()));
+  for (const float v : c)
+    if (!std::isfinite(v)) throw InputError(what + ": every number must be finite");
+  const auto frame = look_at({c[0], c[1], c[2]}, {c[3], c[4], c[5]}, {c[6], c[7], c[8]});
+  if (!frame || !(c[9] > 0 && c[9] < 180))
+    throw InputError(what +
+                     ": origin and target must differ, up must not be parallel to the view, and fov must be in (0, "
+                     "180)");
+  Camera view = *this;
+  view.to_world = *frame;
+  view.fov_degrees = c[9];
+  view.fov_axis = FovAxis::y;
+  view.projection = Projection::perspective;
+  view.aperture_radius = 0;
+  view.validate(what);
+  return view;
+}
+
 Camera Camera::resized(int new_width, int new_height) const {
   Camera c = *this;
   if (new_width > 0) c.width = new_width;

@@ -1,0 +1,233 @@
+"""clradiosity: Importance-Sampling-Guided Neural Radiosity on OpenCL devices, from Python.
+
+A thin layer over the engine the ``clradiosity`` command runs (docs/python.md): the same scene loader, trainer,
+renderers and metrics, with images as numpy arrays of shape (H, W, 3), float32, linear RGB.
+
+    import clradiosity as cr
+    scene = cr.load_scene("scenes/cornell-box.xml")
+    run = cr.train(scene, steps=500, out="cbox-run")
+    image = run.render(spp=16)
+    reference = cr.reference(scene, spp=256)
+    print(cr.compare(image, reference))   # {'mape': ..., 'mse': ..., 'relmse': ...}
+
+Bad input raises ValueError with the command line's one-line message; other failures RuntimeError. Ctrl-C stops a
+training at its next step with a checkpoint (``resume=True`` continues it) and then raises KeyboardInterrupt.
+"""
+
+import csv
+import json
+import os
+
+import numpy as np
+
+from . import _clradiosity as _native
+
+__version__ = _native.__version__
+__all__ = ["devices", "set_threads", "load_scene", "train", "load_run", "reference", "compare", "read_image", "write_image",
+           "Scene", "Run"]
+
+Scene = _native.Scene
+
+
+def _array(image):
+    # The native image's buffer, copied into an array that owns its memory.
+    return np.array(image, dtype=np.float32, copy=True)
+
+
+def _camera(camera):
+    if camera is None:
+        return None
+    values = [float(v) for v in camera]
+    if len(values) != 10:
+        raise ValueError("camera: give 10 numbers (origin, target, up, vertical fov in degrees), not %d" % len(values))
+    return values
+
+
+def devices(device=None):
+    """The OpenCL devices as `clradiosity devices --json` lists them (a list of dicts; 'default' marks the one
+    used when none is named). ``device``: a --device SPEC, to resolve it (ValueError when nothing matches)."""
+    return json.loads(_native.devices_json(device or ""))
+
+
+def set_threads(threads):
+    """Caps the host's worker threads (and a PoCL CPU device's), as --threads; call it before the first device is
+    used."""
+    _native.set_threads(int(threads))
+
+
+def set_quiet():
+    """No progress lines on stderr from now on, as -q."""
+    _native.set_quiet()
+
+
+def load_scene(path, **parameters):
+    """A Mitsuba scene; keyword arguments fill its $parameters, as ``-D key=value`` (values become strings)."""
+    return _native.Scene(os.fspath(path), {str(k): _parameter(v) for k, v in parameters.items()})
+
+
+def _parameter(value):
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return str(value)
+
+
+def _scene(scene):
+    return scene if isinstance(scene, _native.Scene) else load_scene(scene)
+
+
+# Keyword arguments of train() and where each goes in the run's settings (config.json), with the CLI flag it
+# stands for (a resumed run refuses a flag that contradicts its settings).
+_SETTINGS = {
+    "method": (("method",), "--method"),
+    "is_loss": (("is_loss",), "--is-loss"),
+    "residual": (("residual",), "--residual"),
+    "samples": (("samples",), "--samples"),
+    "batch": (("batch",), "--batch"),
+    "steps": (("steps",), "--steps"),
+    "minutes": (("minutes",), "--minutes"),
+    "seed": (("seed",), "--seed"),
+    "bsdf_fraction": (("bsdf_fraction",), "--bsdf-fraction"),
+    "learning_rate": (("network", "adam", "learning_rate"), "--learning-rate"),
+    "guide_learning_rate": (("guide", "adam", "learning_rate"), "--guide-learning-rate"),
+    "gemm": (("network", "gemm"), "--gemm"),
+}
+
+
+def train(scene, out, *, steps=None, minutes=None, method=None, config=None, preset=None, device=None, resume=False,
+          reference=None, eval_every=None, eval_spp=None, preview=None, preview_every=None, callback=None, **settings):
+    """Trains a model of ``scene`` (a Scene or a path) into the run directory ``out``, as `clradiosity train`, and
+    returns its Run.
+
+    Budget: ``steps`` or ``minutes`` (or a ``preset``: preview, balanced, quality, paper). ``method``: "isnr"
+    (default) or "nr". ``config``: a dict of settings or a JSON file, as --config. More settings by keyword, as the
+    flags: is_loss, residual, samples, batch, seed, bsdf_fraction, learning_rate, guide_learning_rate, gemm.
+    ``reference`` (an EXR path) logs MAPE/MSE/relMSE in log.csv every ``eval_every`` steps, as --reference.
+    ``callback(report)`` is called after every step with {'step', 'loss', 'seconds'}; returning False ends the run
+    there, with its checkpoint.
+    """
+    given = dict(settings, steps=steps, minutes=minutes, method=method)
+    unknown = sorted(set(settings) - set(_SETTINGS))
+    if unknown:
+        raise TypeError("train() got unexpected keyword arguments: " + ", ".join(unknown))
+    given = {k: v for k, v in given.items() if v is not None}
+
+    def apply(patch):
+        for key, value in given.items():
+            path, _ = _SETTINGS[key]
+            target = patch
+            for part in path[:-1]:
+                target = target.setdefault(part, {})
+            target[path[-1]] = value
+
+    config_file, config_json = "", ""
+    if isinstance(config, dict):
+        config_json = json.dumps(config, allow_nan=False)
+    elif config is not None:
+        config_file = os.fspath(config)
+
+    def report(step):
+        result = callback(step)
+        return result is None or bool(result)
+
+    scene = _scene(scene)
+    flags = [flag for key, (_, flag) in _SETTINGS.items() if key in given]
+    if eval_every is not None:
+        flags.append("--eval-every")
+    if eval_spp is not None:
+        flags.append("--eval-spp")
+    if preview_every is not None:
+        flags.append("--preview-every")
+    _native.train(scene, os.fspath(out), device or "", preset or "", config_file, config_json, bool(resume), apply,
+                  flags, os.fspath(reference) if reference is not None else "", int(eval_every or 0),
+                  int(eval_spp or 0), os.fspath(preview) if preview is not None else "", int(preview_every or 0),
+                  report if callback is not None else None)
+    return Run(out, scene=scene, device=device)
+
+
+def load_run(run_dir, scene=None, device=None):
+    """A run directory written by train() or `clradiosity train`. ``scene`` defaults to the one the run records
+    (its path as given when it was trained, with its parameters)."""
+    return Run(run_dir, scene=scene, device=device)
+
+
+class Run:
+    """A run directory: its settings, its log and its model, which render() renders."""
+
+    def __init__(self, run_dir, scene=None, device=None):
+        self.dir = os.fspath(run_dir)
+        if not os.path.isfile(os.path.join(self.dir, "model.clr")):
+            raise ValueError("%s: no model.clr (not a run directory, or its training wrote no checkpoint)" % self.dir)
+        if scene is None:
+            record = self._json("scene.json")
+            scene = load_scene(record["scene"], **record.get("parameters", {}))
+        self.scene = _scene(scene)
+        self._device = device or ""
+        self._model = None
+
+    def _json(self, name):
+        path = os.path.join(self.dir, name)
+        try:
+            with open(path) as f:
+                return json.load(f)
+        except (OSError, ValueError) as e:
+            raise ValueError("%s: %s" % (path, e)) from None
+
+    @property
+    def config(self):
+        """The run's settings (config.json)."""
+        return self._json("config.json")
+
+    @property
+    def log(self):
+        """log.csv's rows as dicts of floats (None where a column is empty, e.g. steps without an evaluation)."""
+        with open(os.path.join(self.dir, "log.csv"), newline="") as f:
+            return [{k: (float(v) if v != "" else None) for k, v in row.items()} for row in csv.DictReader(f)]
+
+    @property
+    def model(self):
+        if self._model is None:
+            self._model = _native.Model(os.path.join(self.dir, "model.clr"), self._device)
+        return self._model
+
+    @property
+    def steps(self):
+        """Steps trained so far (log.csv's last row)."""
+        log = self.log
+        return int(log[-1]["step"]) if log else 0
+
+    def render(self, width=0, height=0, spp=4, seed=1, camera=None, scene=None):
+        """The model's image (H, W, 3) float32: Le + L at the first non-delta hit of each camera ray, as `render`.
+        ``width``/``height``: 0 keeps the film's. ``camera``: 10 numbers (origin, target, up, vertical fov) for
+        another view. ``scene``: another instance of the run's scene (e.g. loaded with other parameters)."""
+        return _array(self.model.render(_scene(scene) if scene is not None else self.scene, int(width), int(height),
+                                        int(spp), int(seed), _camera(camera)))
+
+    def __repr__(self):
+        return "Run(%r)" % self.dir
+
+
+def reference(scene, spp=None, width=0, height=0, max_depth=None, seed=0, camera=None):
+    """A path-traced image (H, W, 3) float32 of ``scene`` (a Scene or a path), as `clradiosity reference`: ``spp``
+    defaults to the scene's sampler, ``max_depth`` to its integrator's."""
+    return _array(_native.reference(_scene(scene), int(spp or 0), int(width), int(height),
+                                    None if max_depth is None else int(max_depth), int(seed), _camera(camera)))
+
+
+def compare(image, reference):
+    """MAPE, MSE and relMSE of ``image`` against ``reference`` (arrays (H, W, 3)), as `clradiosity compare`: a
+    reference an integer multiple of the image's size is box-downsampled to it."""
+    return _native.compare(np.ascontiguousarray(image, dtype=np.float32),
+                           np.ascontiguousarray(reference, dtype=np.float32))
+
+
+def read_image(path):
+    """An EXR file as an (H, W, 3) float32 array."""
+    return _array(_native.read_image(os.fspath(path)))
+
+
+def write_image(path, image, **attributes):
+    """Writes an (H, W, 3) array as the format its extension names: .exr (linear float; keyword arguments become
+    string attributes of its header, beside software) or .png (sRGB, 8 bits), atomically."""
+    attributes = {str(k): str(v) for k, v in attributes.items()}
+    attributes.setdefault("software", "clradiosity " + __version__ + " (Python)")
+    _native.write_image(os.fspath(path), np.ascontiguousarray(image, dtype=np.float32), attributes)

@@ -1,0 +1,270 @@
+"""The Python module against the command line it wraps (docs/python.md).
+
+Run by ctest (python.pytest: the build tree's module; python.pip_install: the module `pip install .` built), with
+CLR_CLI naming the clradiosity binary of the same checkout: where the module and the CLI do the same thing, their
+images and figures must be equal, bit for bit — the module is the CLI's code, not a second implementation."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import clradiosity as cr
+
+SOURCE = Path(__file__).resolve().parents[2]
+BOX = SOURCE / "scenes" / "cornell-box.xml"
+FURNACE = SOURCE / "scenes" / "furnace-enclosure.xml"
+CLI = os.environ.get("CLR_CLI", "")
+# Small enough for a few seconds of PoCL, with every part of the encoder (tests/support/small_training.hpp).
+SMALL = {"batch": 512, "log_every": 5, "network": {"width": 64, "hidden_layers": 2,
+                                                   "encoder": {"grid": {"levels": 4, "log2_table": 12,
+                                                                        "base_resolution": 4}}}}
+
+
+def cli(*args):
+    if not CLI:
+        pytest.skip("CLR_CLI names no clradiosity binary")
+    r = subprocess.run([CLI, *map(str, args)], capture_output=True, text=True)
+    return r
+
+
+@pytest.fixture(scope="module")
+def box():
+    return cr.load_scene(BOX, res=32)
+
+
+@pytest.fixture(scope="module")
+def trained(box, tmp_path_factory):
+    out = tmp_path_factory.mktemp("run") / "box"
+    reports = []
+    run = cr.train(box, out, steps=20, method="nr", config=SMALL, callback=reports.append)
+    return run, reports
+
+
+def test_devices_lists_one_default():
+    devices = cr.devices()
+    assert devices and sum(d["default"] for d in devices) == 1
+    assert {"index", "platform", "name", "type", "compute_units"} <= set(devices[0])
+    assert cr.devices(devices[0]["index"])[0]["name"] == devices[0]["name"]
+
+
+def test_bad_input_is_value_error_with_the_cli_line(tmp_path):
+    with pytest.raises(ValueError, match="no-such-device"):
+        cr.devices("no-such-device")
+    missing = tmp_path / "missing.xml"
+    with pytest.raises(ValueError) as e:
+        cr.load_scene(missing)
+    assert str(missing) in str(e.value) and "\n" not in str(e.value)
+    if CLI:
+        r = cli("reference", missing, "--spp", 1, "-o", tmp_path / "x.exr")
+        assert r.returncode == 2
+        assert r.stderr.strip() == "clradiosity: error: " + str(e.value)
+    bad = tmp_path / "bad.xml"
+    bad.write_text("<scene version='3.0.0'><shape type='teapot'/></scene>")
+    with pytest.raises(ValueError, match="teapot"):
+        cr.load_scene(bad)
+
+
+def test_scene_parameters_fill_the_defaults():
+    assert cr.load_scene(BOX).film == (128, 128)
+    small = cr.load_scene(BOX, res=16)
+    assert small.film == (16, 16)
+    assert small.parameters == {"res": "16"}
+    assert small.digest != cr.load_scene(BOX).digest  # -D is part of the scene's identity
+    assert small.files[0] == str(BOX)
+
+
+def test_training_reports_every_step_and_writes_a_run(trained):
+    run, reports = trained
+    assert [r["step"] for r in reports] == list(range(1, 21))
+    assert all(np.isfinite(r["loss"]) and r["seconds"] > 0 for r in reports)
+    assert run.steps == 20
+    assert run.config["method"] == "nr" and run.config["batch"] == 512
+    assert run.log[-1]["step"] == 20
+
+
+def test_render_is_the_cli_render_bit_for_bit(trained, box, tmp_path):
+    run, _ = trained
+    image = run.render(spp=2, seed=3)
+    assert image.shape == (32, 32, 3) and image.dtype == np.float32
+    assert np.isfinite(image).all() and image.mean() > 0
+    wide = run.render(width=48, height=16, spp=1)
+    assert wide.shape == (16, 48, 3)
+    r = cli("render", BOX, "-D", "res=32", "--model", run.dir, "--spp", 2, "--seed", 3, "-o", tmp_path / "r.exr")
+    assert r.returncode == 0, r.stderr
+    assert np.array_equal(cr.read_image(tmp_path / "r.exr"), image)
+    view = [0, 1, 6.8, 0, 1, 0, 0, 1, 0, 30]
+    other = run.render(spp=2, seed=3, camera=view)
+    r = cli("render", BOX, "-D", "res=32", "--model", run.dir, "--spp", 2, "--seed", 3, "--camera",
+            ",".join(map(str, view)), "-o", tmp_path / "v.exr")
+    assert r.returncode == 0, r.stderr
+    assert np.array_equal(cr.read_image(tmp_path / "v.exr"), other)
+    assert not np.array_equal(other, image)
+
+
+def test_render_refuses_another_scene_and_bad_views(trained):
+    run, _ = trained
+    with pytest.raises(ValueError, match="scene"):
+        run.render(scene=cr.load_scene(FURNACE))
+    with pytest.raises(ValueError, match="camera"):
+        run.render(camera=[0, 0, 0, 0, 0, 0, 0, 1, 0, 30])
+    with pytest.raises(ValueError, match="camera"):
+        run.render(camera=[1, 2, 3])
+
+
+def test_load_run_finds_its_scene(trained):
+    run, _ = trained
+    again = cr.load_run(run.dir)
+    assert again.scene.digest == run.scene.digest
+    assert np.array_equal(again.render(spp=1), run.render(spp=1))
+    with pytest.raises(ValueError, match="model.clr"):
+        cr.load_run(Path(run.dir) / "nothing-here")
+
+
+def test_reference_is_the_cli_reference_and_compare_the_cli_compare(box, tmp_path):
+    image = cr.reference(box, spp=4, width=16, height=16, seed=5)
+    assert image.shape == (16, 16, 3) and np.isfinite(image).all() and image.max() > 0
+    assert np.array_equal(image, cr.reference(box, spp=4, width=16, height=16, seed=5))
+    r = cli("reference", BOX, "-D", "res=32", "--spp", 4, "--width", 16, "--height", 16, "--seed", 5, "-o",
+            tmp_path / "ref.exr")
+    assert r.returncode == 0, r.stderr
+    assert np.array_equal(cr.read_image(tmp_path / "ref.exr"), image)
+
+    better = cr.reference(box, spp=64, width=16, height=16, seed=6)
+    metrics = cr.compare(image, better)
+    # The definitions of docs/design.md §4, in numpy (in double precision, as the engine sums them).
+    a, b = image.astype(np.float64), better.astype(np.float64)
+    assert metrics["mape"] == pytest.approx(np.mean(np.abs(a - b) / (np.abs(b) + 0.01)), rel=1e-9)
+    assert metrics["mse"] == pytest.approx(np.mean((a - b) ** 2), rel=1e-9)
+    assert metrics["relmse"] == pytest.approx(np.mean((a - b) ** 2 / (b ** 2 + 0.01)), rel=1e-9)
+    cr_compare = cli("compare", tmp_path / "ref.exr", _write(tmp_path, better, box), "--json")
+    assert cr_compare.returncode == 0, cr_compare.stderr
+    assert json.loads(cr_compare.stdout)["mape"] == metrics["mape"]
+    # A reference twice the size is box-downsampled, as `compare` does; other sizes are refused.
+    assert cr.compare(image, np.repeat(np.repeat(better, 2, 0), 2, 1))["mape"] == pytest.approx(metrics["mape"])
+    with pytest.raises(ValueError):
+        cr.compare(image, better[:15])
+    with pytest.raises(ValueError, match="float32"):
+        cr.compare(image[..., :2], better)
+
+
+def _write(tmp_path, image, box):
+    # An EXR of `image` for the CLI: the reference of the same pixels, re-rendered by the CLI (its seed and spp).
+    path = tmp_path / "better.exr"
+    r = cli("reference", BOX, "-D", "res=32", "--spp", 64, "--width", 16, "--height", 16, "--seed", 6, "-o", path)
+    assert r.returncode == 0, r.stderr
+    assert np.array_equal(cr.read_image(path), image)
+    return path
+
+
+def test_reference_takes_the_scene_sampler_or_names_it(tmp_path):
+    with pytest.raises(ValueError, match="sample_count"):
+        cr.reference(cr.load_scene(BOX, res=8))
+    scene = tmp_path / "sampled.xml"
+    text = BOX.read_text().replace('<film type="hdrfilm">',
+                                   '<sampler type="independent"><integer name="sample_count" value="3"/>'
+                                   '</sampler><film type="hdrfilm">')
+    scene.write_text(text.replace('href="meshes', 'href="%s/meshes' % (SOURCE / "scenes")))
+    sampled = cr.load_scene(scene, res=8)
+    assert sampled.sample_count == 3
+    assert np.array_equal(cr.reference(sampled), cr.reference(sampled, spp=3))
+
+
+def test_callback_false_stops_with_a_checkpoint_and_resume_continues(box, tmp_path):
+    out = tmp_path / "stopped"
+    run = cr.train(box, out, steps=50, method="nr", config=SMALL, callback=lambda r: r["step"] < 7)
+    assert run.steps == 7
+    cr.train(box, out, steps=12, resume=True)
+    assert cr.load_run(out).steps == 12
+    with pytest.raises(ValueError, match="--method"):
+        cr.train(box, out, steps=15, method="isnr", resume=True)
+
+
+def test_callback_exception_propagates_after_the_checkpoint(box, tmp_path):
+    def fail(report):
+        if report["step"] == 4:
+            raise ArithmeticError("from the callback")
+
+    with pytest.raises(ArithmeticError, match="from the callback"):
+        cr.train(box, tmp_path / "failed", steps=50, method="nr", config=SMALL, callback=fail)
+    assert cr.load_run(tmp_path / "failed").steps == 4
+
+
+def test_settings_are_checked_as_the_cli_checks_them(box, tmp_path):
+    with pytest.raises(ValueError, match="method"):
+        cr.train(box, tmp_path / "a", steps=5, method="bogus")
+    with pytest.raises(ValueError, match="budget"):
+        cr.train(box, tmp_path / "b")
+    with pytest.raises(ValueError, match="no_such_key"):
+        cr.train(box, tmp_path / "c", steps=5, config={"no_such_key": 1})
+    with pytest.raises(TypeError, match="bogus_setting"):
+        cr.train(box, tmp_path / "d", steps=5, bogus_setting=3)
+    assert not (tmp_path / "a").exists() and not (tmp_path / "c").exists()
+
+
+def test_isnr_with_settings_by_keyword(box, tmp_path):
+    run = cr.train(box, tmp_path / "isnr", steps=6, config=SMALL, is_loss="kl", samples=2, bsdf_fraction=0.25,
+                   learning_rate=0.002, seed=9)
+    c = run.config
+    assert (c["method"], c["is_loss"], c["samples"], c["bsdf_fraction"], c["seed"]) == ("isnr", "kl", 2, 0.25, 9)
+    assert c["network"]["adam"]["learning_rate"] == pytest.approx(0.002)
+    assert run.steps == 6
+
+
+def test_long_calls_release_the_gil(box):
+    done = threading.Event()
+    ticks = 0
+
+    def work():
+        cr.reference(box, spp=96, width=32, height=32)
+        done.set()
+
+    t = threading.Thread(target=work)
+    t.start()
+    while not done.is_set():
+        ticks += 1
+        time.sleep(0.001)
+    t.join()
+    assert ticks > 20  # the main thread ran while the path tracer did
+
+
+def test_ctrl_c_checkpoints_then_raises_keyboard_interrupt(tmp_path):
+    script = tmp_path / "long.py"
+    out = tmp_path / "interrupted"
+    script.write_text(
+        "import sys, clradiosity as cr\n"
+        "def report(r):\n"
+        "    if r['step'] == 3: print('training', flush=True)\n"
+        "try:\n"
+        "    cr.train(cr.load_scene(%r, res=32), %r, minutes=5, method='nr', config=%r, callback=report)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('KeyboardInterrupt', flush=True)\n"
+        "    sys.exit(7)\n" % (str(BOX), str(out), SMALL))
+    p = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
+    assert p.stdout.readline().strip() == "training", p.stderr.read()
+    p.send_signal(signal.SIGINT)
+    stdout, stderr = p.communicate(timeout=60)
+    assert p.returncode == 7, stderr
+    assert "KeyboardInterrupt" in stdout
+    assert cr.load_run(out).steps >= 3
+
+
+def test_write_image_round_trips_and_refuses_other_extensions(tmp_path):
+    image = np.random.default_rng(1).random((5, 7, 3), dtype=np.float32)
+    cr.write_image(tmp_path / "a.exr", image, spp=3)
+    assert np.array_equal(cr.read_image(tmp_path / "a.exr"), image)
+    header = (tmp_path / "a.exr").read_bytes()[:4096]
+    assert b"spp" in header and b"software" in header
+    cr.write_image(tmp_path / "a.png", image)
+    assert (tmp_path / "a.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    with pytest.raises(ValueError, match="a.jpg"):
+        cr.write_image(tmp_path / "a.jpg", image)
+    assert not (tmp_path / "a.jpg").exists()
