@@ -13,6 +13,7 @@
 
 #include "support/background_cli.hpp"
 #include "support/cli_run_dir.hpp"
+#include "support/test_python.hpp"
 
 namespace clr::test {
 namespace {
@@ -53,6 +54,20 @@ TEST_F(InstallCli, AMovedPrefixRunsFromAnyFolder) {
 
   std::string err;
   EXPECT_EQ(run_in(elsewhere, binary, "--help", &err), 0) << err;
+
+  // The Python module, in the GNU layout's site-packages, imports from the moved prefix and loads the installed scene.
+  fs::path site_packages;
+  for (const auto& lib : fs::directory_iterator(moved / CLR_INSTALL_LIBDIR))
+    if (lib.path().filename().string().starts_with("python")) site_packages = lib.path() / "site-packages";
+  ASSERT_TRUE(fs::exists(site_packages / "clradiosity" / "__init__.py")) << "the Python module is not installed";
+  if (const std::string py = test_python(); !py.empty()) {
+    const std::string check = "import clradiosity as cr; assert cr.__file__.startswith('" + moved.string() +
+                              "'), cr.__file__; print(cr.load_scene('" +
+                              (moved / "share/clradiosity/scenes/cornell-box.xml").string() + "').film)";
+    const std::string cmd = "cd '" + elsewhere.string() + "' && PYTHONPATH='" + site_packages.string() + "' '" + py +
+                            "' -c \"" + check + "\" >'" + (dir / "python.out").string() + "' 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << "see " << (dir / "python.out");
+  }
 
   // The main job trains the installed Cornell box (the run's scene record names the scene it read); SIGTERM stops
   // it cleanly once it has logged, as the main job's own test does.
