@@ -97,13 +97,13 @@ class Scene {
 
 // Runs `work` without the GIL, stoppable by SIGINT/SIGTERM where the caller is Python's main thread (only it runs
 // Python's signal handlers; elsewhere the process's handlers stay as they are). A stop ends the work at its next
-// safe point; then SIGINT raises KeyboardInterrupt and SIGTERM ends the process as Python's default would.
+// safe point; then SIGINT raises KeyboardInterrupt and SIGTERM ends the process as Python's default would. A stop a
+// callback requested (request_stop) is forgotten after the call, on any thread.
 template <class Work>
 auto stoppable(Work&& work) {
   const py::module_ threading = py::module_::import("threading");
   const bool main_thread = threading.attr("current_thread")().is(threading.attr("main_thread")());
-  std::optional<StopHandlerScope> handlers;
-  if (main_thread) handlers.emplace();
+  std::optional<StopHandlerScope> handlers(std::in_place, main_thread);
   int signal = 0;
   auto result = [&] {
     py::gil_scoped_release released;

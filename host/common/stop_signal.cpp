@@ -44,7 +44,8 @@ int stop_signal() { return g_signal.load(); }
 unsigned continue_count() { return g_continued.load(); }
 void request_stop() { g_stop.store(true); }
 
-StopHandlerScope::StopHandlerScope() {
+StopHandlerScope::StopHandlerScope(bool handle_signals) : handle_signals_(handle_signals) {
+  if (!handle_signals_) return;
   struct sigaction ours {};
   ours.sa_handler = on_stop_signal;
   sigemptyset(&ours.sa_mask);
@@ -53,8 +54,10 @@ StopHandlerScope::StopHandlerScope() {
 }
 
 StopHandlerScope::~StopHandlerScope() {
-  sigaction(SIGINT, &interrupt_, nullptr);
-  sigaction(SIGTERM, &terminate_, nullptr);
+  if (handle_signals_) {
+    sigaction(SIGINT, &interrupt_, nullptr);
+    sigaction(SIGTERM, &terminate_, nullptr);
+  }
   g_stop.store(false);
   g_signal.store(0);
 }

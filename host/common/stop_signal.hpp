@@ -20,17 +20,19 @@ void request_stop();  // what the handlers do; also for tests
 // work that times itself sees the pause inside the interval in which this count changed.
 unsigned continue_count();
 
-// For a process whose signal handlers are its own (Python, which embeds the module): SIGINT and SIGTERM ask long
-// work to stop, as in the CLI, for the scope's length only; the process's handlers come back after it and the stop
-// is forgotten, so that the next call starts afresh. Read stop_signal() before the scope ends.
+// For a process whose signal handlers are its own (Python, which embeds the module): with `handle_signals`, SIGINT and
+// SIGTERM ask long work to stop, as in the CLI, for the scope's length only, and the process's handlers come back
+// after it. Either way the stop (a signal's or request_stop()'s) is forgotten at the scope's end, so that the next
+// call starts afresh. Read stop_signal() before the scope ends.
 class StopHandlerScope {
  public:
-  StopHandlerScope();
+  explicit StopHandlerScope(bool handle_signals);
   ~StopHandlerScope();
   StopHandlerScope(const StopHandlerScope&) = delete;
   StopHandlerScope& operator=(const StopHandlerScope&) = delete;
 
  private:
+  bool handle_signals_;
   struct sigaction interrupt_ {
   }, terminate_{};
 };

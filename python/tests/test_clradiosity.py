@@ -268,3 +268,17 @@ def test_write_image_round_trips_and_refuses_other_extensions(tmp_path):
     with pytest.raises(ValueError, match="a.jpg"):
         cr.write_image(tmp_path / "a.jpg", image)
     assert not (tmp_path / "a.jpg").exists()
+
+
+def test_a_stop_from_a_callback_in_another_thread_is_forgotten(box, tmp_path):
+    steps = {}
+
+    def work():
+        steps["first"] = cr.train(box, tmp_path / "t1", steps=20, method="nr", config=SMALL,
+                                  callback=lambda r: r["step"] < 2).steps
+        steps["second"] = cr.train(box, tmp_path / "t2", steps=5, method="nr", config=SMALL).steps
+
+    t = threading.Thread(target=work)
+    t.start()
+    t.join()
+    assert steps == {"first": 2, "second": 5}
