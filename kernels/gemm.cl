@@ -45,6 +45,26 @@ inline void store_c(__global float* c, float acc, float alpha, float beta, __glo
   *c = apply_act(r, act);
 }
 
+// The part of C and of the reduction that a work-group of the tiled kernels (gemm_tiled.cl, gemm_tf32.cl) owns: group
+// row gm is tile row gm mod ⌈M/bm⌉ of k-slice gm div ⌈M/bm⌉ (split-K, each slice written to C + slice·c_slice), group
+// column the tile column. A slice past K is empty, [K, K): such groups run an empty loop rather than return early, so
+// every work-item reaches every barrier.
+typedef struct {
+  uint m0, n0, kb, ke, slice;
+} GemmTile;
+
+inline GemmTile gemm_tile(uint M, uint K, uint k_slice, uint bm, uint bn) {
+  GemmTile t;
+  const uint tiles_m = (M + bm - 1) / bm;
+  const uint gm = (uint)get_group_id(1);
+  t.slice = gm / tiles_m;
+  t.m0 = (gm - t.slice * tiles_m) * bm;
+  t.n0 = (uint)get_group_id(0) * bn;
+  t.kb = min(K, t.slice * k_slice);
+  t.ke = min(K, t.kb + k_slice);
+  return t;
+}
+
 __kernel void gemm_own(uint M, uint N, uint K, float alpha, __global const float* A, uint a_off, uint a_rs, uint a_cs,
                        __global const float* B, uint b_off, uint ldb, float beta, __global float* C, uint c_off,
                        uint ldc, uint k_slice, uint c_slice, __global const float* bias, uint bias_off, uint use_bias,

@@ -71,15 +71,9 @@ __kernel __attribute__((reqd_work_group_size(LX, LY, 1))) void gemm_tiled(
 #endif
   const uint lx = (uint)get_local_id(0), ly = (uint)get_local_id(1);
   const uint lid = ly * LX + lx;
-  const uint tiles_m = (M + BM - 1) / BM;
-  const uint gm = (uint)get_group_id(1);
-  const uint slice = gm / tiles_m;
-  const uint m0 = (gm - slice * tiles_m) * BM;
-  const uint n0 = (uint)get_group_id(0) * BN;
-  // No early return: every work-item of the group reaches every barrier (groups past K run an empty loop).
-  const uint kb = min(K, slice * k_slice);
-  const uint ke = min(K, kb + k_slice);
-  __global float* Cs = C + c_off + slice * c_slice;
+  const GemmTile tile = gemm_tile(M, K, k_slice, BM, BN);
+  const uint m0 = tile.m0, n0 = tile.n0, kb = tile.kb, ke = tile.ke;
+  __global float* Cs = C + c_off + tile.slice * c_slice;
 
   float acc[WM][WN];
 #pragma unroll

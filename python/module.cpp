@@ -327,15 +327,7 @@ PYBIND11_MODULE(_clradiosity, m) {
          const std::optional<std::vector<float>>& camera) {
         reference::RenderOptions options;
         options.camera = scene.view(camera);
-        // As `reference`: the scene's sampler's count unless given.
-        if (spp == 0) {
-          if (!scene.scene().sample_count)
-            throw InputError("spp: give the samples per pixel; " + scene.path() +
-                             " names none (<sampler><integer name=\"sample_count\">)");
-          spp = *scene.scene().sample_count;
-        }
-        if (spp < 1 || spp > (1 << 24)) throw InputError("spp: " + std::to_string(spp) + " is not in [1, 2^24]");
-        options.spp = spp;
+        options.spp = reference::samples_per_pixel(scene.scene(), scene.path(), spp, "spp");
         options.width = width;
         options.height = height;
         options.max_depth = max_depth;

@@ -50,16 +50,7 @@ Command add_reference_command(CLI::App& app) {
                            Digest().add(scene::fingerprint(scene).digest).value());
         if (ranks.rank() == 0) require_outputs({{opt->output, "-o"}}, scene.files);
         scene::require_sensor(scene, opt->scene);
-        // As mitsuba renders a scene: its sampler's count, unless the command line says otherwise.
-        if (opt->render.spp == 0) {
-          if (!scene.sample_count)
-            throw InputError("--spp: give the samples per pixel; " + opt->scene +
-                             " names none (<sampler><integer name=\"sample_count\">)");
-          if (*scene.sample_count < 1 || *scene.sample_count > (1 << 24))
-            throw InputError("--spp: give the samples per pixel; " + opt->scene + "'s sampler asks for " +
-                             std::to_string(*scene.sample_count) + ", outside [1, 2^24]");
-          opt->render.spp = *scene.sample_count;
-        }
+        opt->render.spp = reference::samples_per_pixel(scene, opt->scene, opt->render.spp, "--spp");
         scene::require_emitter(scene, opt->scene);
         const geometry::Geometry geometry(scene);
         reference::RenderStats stats;

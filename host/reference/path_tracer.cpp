@@ -6,6 +6,7 @@
 #include <cmath>
 #include <mutex>
 
+#include "common/error.hpp"
 #include "common/parallel.hpp"
 #include "common/pcg32.hpp"
 #include "common/progress.hpp"
@@ -165,6 +166,21 @@ image::Image render(const geometry::Geometry& geometry, const RenderOptions& opt
     stats->non_finite = non_finite;
   }
   return img;
+}
+
+int samples_per_pixel(const scene::Scene& scene, const std::string& path, int given, const std::string& option) {
+  const auto in_range = [](long long spp) { return spp >= 1 && spp <= (1 << 24); };
+  if (given != 0) {
+    if (!in_range(given)) throw InputError(option + ": " + std::to_string(given) + " is not in [1, 2^24]");
+    return given;
+  }
+  if (!scene.sample_count)
+    throw InputError(option + ": give the samples per pixel; " + path +
+                     " names none (<sampler><integer name=\"sample_count\">)");
+  if (!in_range(*scene.sample_count))
+    throw InputError(option + ": give the samples per pixel; " + path + "'s sampler asks for " +
+                     std::to_string(*scene.sample_count) + ", outside [1, 2^24]");
+  return *scene.sample_count;
 }
 
 }  // namespace clr::reference

@@ -5,6 +5,7 @@
 // the seed, never on the thread count.
 #include <cstdint>
 #include <optional>
+#include <string>
 
 #include "geometry/geometry.hpp"
 #include "image/image.hpp"
@@ -36,5 +37,9 @@ struct RenderStats {
 };
 
 image::Image render(const geometry::Geometry& geometry, const RenderOptions& options, RenderStats* stats = nullptr);
+
+// The samples per pixel a reference of `scene` (read from `path`) takes, as mitsuba renders a scene: `given` where
+// it is not 0, else its <sampler>'s sample_count. InputError "<option>: …" where neither gives a count in [1, 2^24].
+int samples_per_pixel(const scene::Scene& scene, const std::string& path, int given, const std::string& option);
 
 }  // namespace clr::reference
