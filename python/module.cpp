@@ -67,13 +67,15 @@ image::Image from_buffer(const py::buffer& buffer, const char* what) {
 // A loaded scene: its files read once, its geometry built on first use and shared by later calls.
 class Scene {
  public:
-  Scene(std::string path, std::map<std::string, std::string> parameters)
+  Scene(std::string path, std::map<std::string, std::string> parameters, int sensor)
       : path_(std::move(path)),
         parameters_(std::move(parameters)),
-        scene_(std::make_unique<scene::Scene>(scene::load_scene(path_, parameters_))) {}
+        sensor_(sensor),
+        scene_(std::make_unique<scene::Scene>(scene::load_scene(path_, parameters_, sensor))) {}
 
   const std::string& path() const { return path_; }
   const std::map<std::string, std::string>& parameters() const { return parameters_; }
+  int sensor() const { return sensor_; }
   const scene::Scene& scene() const { return *scene_; }
   const geometry::Geometry& geometry() {
     const std::lock_guard lock(mutex_);
@@ -90,6 +92,7 @@ class Scene {
  private:
   std::string path_;
   std::map<std::string, std::string> parameters_;
+  int sensor_;
   std::unique_ptr<scene::Scene> scene_;
   std::mutex mutex_;
   std::unique_ptr<geometry::Geometry> geometry_;
@@ -220,13 +223,15 @@ PYBIND11_MODULE(_clradiosity, m) {
   m.def("set_quiet", [] { Progress::silence_process(); });
 
   py::class_<Scene>(m, "Scene")
-      .def(py::init([](const std::string& path, const std::map<std::string, std::string>& parameters) {
+      .def(py::init([](const std::string& path, const std::map<std::string, std::string>& parameters, int sensor) {
              py::gil_scoped_release released;
-             return std::make_unique<Scene>(path, parameters);
+             return std::make_unique<Scene>(path, parameters, sensor);
            }),
-           py::arg("path"), py::arg("parameters"))
+           py::arg("path"), py::arg("parameters"), py::arg("sensor"))
       .def_property_readonly("path", &Scene::path)
       .def_property_readonly("parameters", &Scene::parameters)
+      .def_property_readonly("sensor", &Scene::sensor)
+      .def_property_readonly("sensor_count", [](const Scene& s) { return s.scene().sensor_count; })
       .def_property_readonly("digest", [](const Scene& s) { return scene::fingerprint(s.scene()).digest; })
       .def_property_readonly("files",
                              [](const Scene& s) {
@@ -251,6 +256,7 @@ PYBIND11_MODULE(_clradiosity, m) {
         radiosity::TrainRequest request;
         request.scene = scene.path();
         request.parameters = scene.parameters();
+        request.sensor = scene.sensor();
         request.run_dir = run_dir;
         request.device = device;
         request.preset = preset;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace clr::cli {
@@ -21,12 +22,16 @@ void add_threads_option(CLI::App& cmd);
 // Adds -D key=value (repeatable), Mitsuba's: fills the scene's $key where its file reads one, over its <default>.
 // The values become part of the scene's fingerprint (runs and sweeps record them).
 void add_scene_parameters_option(CLI::App& cmd, std::map<std::string, std::string>& parameters);
+// Adds --sensor INDEX: which of the scene's sensors, in the file's order, renders (default 0, the first).
+void add_sensor_option(CLI::App& cmd, int& sensor);
 // The command line as given (argv joined by spaces), for the metadata of the images a command writes.
 const std::string& command_line();
-// What an EXR records of how it was made (docs/cli.md, "EXR metadata"): software, command line, scene digest, spp,
-// seed, seconds; `steps` (model renders) where given.
-std::map<std::string, std::string> exr_metadata(const std::string& scene_digest, int spp, std::uint64_t seed,
-                                                double seconds, long long steps = -1);
+// What an EXR records of how it was made (docs/cli.md, "EXR metadata"): software, command line, scene digest, and
+// where they apply spp, seed, seconds and `steps` (model renders). A guide map has no spp or seed; a walkthrough's
+// frames, rendered back to back, no time of their own.
+std::map<std::string, std::string> exr_metadata(const std::string& scene_digest, std::optional<int> spp,
+                                                std::optional<std::uint64_t> seed, std::optional<double> seconds,
+                                                long long steps = -1);
 // Applies --threads or CLRADIOSITY_THREADS (InputError naming a malformed value), before any OpenCL call.
 void apply_thread_count();
 

@@ -42,6 +42,7 @@ Command add_guide_command(CLI::App& app) {
   struct Options {
     std::string scene, model, output, exr, device;
     std::map<std::string, std::string> parameters;
+    int sensor = 0;
     std::vector<float> pixel;
     int width = 0, height = 0, resolution = 128;
   };
@@ -66,11 +67,12 @@ Command add_guide_command(CLI::App& app) {
       ->check(CLI::Range(8, 2048));
   add_device_option(*cmd, opt->device);
   add_scene_parameters_option(*cmd, opt->parameters);
+  add_sensor_option(*cmd, opt->sensor);
 
   return {cmd, [opt]() {
             const auto format = image::output_format(opt->output, "-o", {image::Format::Png, image::Format::Exr});
             image::output_format(opt->exr, "--exr", {image::Format::Exr});
-            const auto scene = scene::load_scene(opt->scene, opt->parameters);
+            const auto scene = scene::load_scene(opt->scene, opt->parameters, opt->sensor);
             const int width = opt->width > 0 ? opt->width : scene.camera.width;
             const int height = opt->height > 0 ? opt->height : scene.camera.height;
             const float px = opt->pixel[0], py = opt->pixel[1];
@@ -89,8 +91,13 @@ Command add_guide_command(CLI::App& app) {
             const auto view = radiosity::view_guide(ctx, geometry, *radiance, *guide, std::floor(px) + 0.5f,
                                                     std::floor(py) + 0.5f, width, height, opt->resolution);
             // A PNG shows both maps on one log scale; an EXR holds them as densities (what --exr writes).
-            image::write_image(opt->output, side_by_side(view, format == image::Format::Png), format);
-            if (!opt->exr.empty()) image::write_exr(opt->exr, side_by_side(view, false));
+            auto metadata = exr_metadata(scene::fingerprint(scene).digest, std::nullopt, std::nullopt, std::nullopt,
+                                         static_cast<long long>(radiance->steps()));
+            char pixel[64];
+            std::snprintf(pixel, sizeof pixel, "%g,%g", double(px), double(py));
+            metadata["pixel"] = pixel;
+            image::write_image(opt->output, side_by_side(view, format == image::Format::Png), format, metadata);
+            if (!opt->exr.empty()) image::write_exr(opt->exr, side_by_side(view, false), metadata);
             std::printf(
                 "guide: %s%s  KL(p||q) %.4g  q's mass where the target is lit %.4g  (lit: %.4g of the sphere)\n",
                 opt->output.c_str(), opt->exr.empty() ? "" : (", " + opt->exr).c_str(), view.kl, view.q_mass_lit,

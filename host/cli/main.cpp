@@ -38,16 +38,19 @@ std::string& command_line_text() {
 
 const std::string& command_line() { return command_line_text(); }
 
-std::map<std::string, std::string> exr_metadata(const std::string& scene_digest, int spp, std::uint64_t seed,
-                                                double seconds, long long steps) {
-  char time[32];
-  std::snprintf(time, sizeof time, "%.3f", seconds);
+std::map<std::string, std::string> exr_metadata(const std::string& scene_digest, std::optional<int> spp,
+                                                std::optional<std::uint64_t> seed, std::optional<double> seconds,
+                                                long long steps) {
   std::map<std::string, std::string> m = {{"software", std::string("clradiosity ") + CLR_VERSION},
                                           {"commandLine", command_line()},
-                                          {"sceneDigest", scene_digest},
-                                          {"spp", std::to_string(spp)},
-                                          {"seed", std::to_string(seed)},
-                                          {"renderTimeSeconds", time}};
+                                          {"sceneDigest", scene_digest}};
+  if (spp) m["spp"] = std::to_string(*spp);
+  if (seed) m["seed"] = std::to_string(*seed);
+  if (seconds) {
+    char time[32];
+    std::snprintf(time, sizeof time, "%.3f", *seconds);
+    m["renderTimeSeconds"] = time;
+  }
   if (steps >= 0) m["steps"] = std::to_string(steps);
   return m;
 }
@@ -67,6 +70,11 @@ void add_scene_parameters_option(CLI::App& cmd, std::map<std::string, std::strin
       ->expected(1)
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
+void add_sensor_option(CLI::App& cmd, int& sensor) {
+  cmd.add_option("--sensor", sensor, "Which of the scene's sensors renders, in the file's order (default 0)")
+      ->check(CLI::Range(0, 1 << 20));
 }
 
 namespace {

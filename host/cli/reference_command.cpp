@@ -18,6 +18,7 @@ Command add_reference_command(CLI::App& app) {
   struct Options {
     std::string scene, output;
     std::map<std::string, std::string> parameters;
+    int sensor = 0;
     reference::RenderOptions render;
   };
   auto opt = std::make_shared<Options>();
@@ -37,6 +38,7 @@ Command add_reference_command(CLI::App& app) {
   cmd->add_option("--seed", opt->render.seed, "Random seed")->check(integer_at_least(0));
   add_threads_option(*cmd);
   add_scene_parameters_option(*cmd, opt->parameters);
+  add_sensor_option(*cmd, opt->sensor);
   cmd->add_option("-o,--output", opt->output, "Output image: .exr (linear) or .png (sRGB), by its extension")
       ->required();
 
@@ -45,7 +47,7 @@ Command add_reference_command(CLI::App& app) {
         // Under mpirun the ranks share the rows and rank 0 alone writes the image.
         const auto& ranks = distributed::Communicator::world();
         const auto format = image::output_format(opt->output, "-o");
-        const scene::Scene scene = scene::load_scene(opt->scene, opt->parameters);
+        const scene::Scene scene = scene::load_scene(opt->scene, opt->parameters, opt->sensor);
         ranks.require_same("the scenes (the contents of their files)",
                            Digest().add(scene::fingerprint(scene).digest).value());
         if (ranks.rank() == 0) require_outputs({{opt->output, "-o"}}, scene.files);

@@ -34,6 +34,7 @@ namespace {
 struct Options {
   std::string scene, model, output, png, reference, error_map, device, path, video;
   std::map<std::string, std::string> parameters;
+  int sensor = 0;
   int orbit = 0, path_tracer_check = 0, check_spp = 1024;
   double fps = 30;
   std::vector<float> camera;
@@ -74,6 +75,8 @@ int render_walkthrough(const Options& opt, const scene::Scene& scene, const geom
   seq.dir = opt.output;
   seq.png = opt.png_given || !opt.video.empty();  // the video is made from the PNGs
   seq.settings = opt.settings;
+  seq.exr_attributes = exr_metadata(scene::fingerprint(scene).digest, opt.settings.spp, opt.settings.seed, std::nullopt,
+                                    static_cast<long long>(network->steps()));
   seq.record = {{"scene", scene::fingerprint(scene).digest},
                 {"model", Digest().add_file(radiosity::RunDirectory::input_files(opt.model).front()).hex()}};
   const auto done = walkthrough::render_sequence(geometry, cameras, field, seq);
@@ -206,6 +209,7 @@ Command add_render_command(CLI::App& app) {
       ->needs(check);
   add_device_option(*cmd, opt->device);
   add_scene_parameters_option(*cmd, opt->parameters);
+  add_sensor_option(*cmd, opt->sensor);
 
   return {cmd, [opt, cmd]() {
             const bool frames = !opt->path.empty() || cmd->count("--orbit") > 0;
@@ -222,7 +226,7 @@ Command add_render_command(CLI::App& app) {
             if (!frames) image::output_format(opt->output, "-o");
             image::output_format(opt->png, "--png", {image::Format::Png});
             image::output_format(opt->error_map, "--error-map", {image::Format::Png});
-            auto scene = scene::load_scene(opt->scene, opt->parameters);
+            auto scene = scene::load_scene(opt->scene, opt->parameters, opt->sensor);
             auto inputs = radiosity::RunDirectory::input_files(opt->model);
             inputs.insert(inputs.end(), scene.files.begin(), scene.files.end());
             inputs.insert(inputs.end(), {opt->reference, opt->path});

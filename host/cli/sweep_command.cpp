@@ -53,6 +53,7 @@ Command add_sweep_command(CLI::App& app) {
   cmd->add_option("--config", opt->config_file, "Training settings (JSON) for every run, as `train --config`");
   add_device_option(*cmd, opt->device);
   add_scene_parameters_option(*cmd, opt->sweep.scene_parameters);
+  add_sensor_option(*cmd, opt->sweep.sensor);
 
   return {cmd, [opt]() {
             if (!opt->config_file.empty()) opt->sweep.base = radiosity::load_train_config(opt->config_file);

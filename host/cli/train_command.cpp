@@ -14,6 +14,7 @@ Command add_train_command(CLI::App& app) {
   struct Options {
     std::string scene, run_dir, config_file, device, method, is_loss, residual, gemm, preset, preview;
     std::map<std::string, std::string> parameters;
+    int sensor = 0;
     int samples = 0, batch = 0;
     long steps = 0, preview_every = 0;
     radiosity::EvaluationSettings evaluation;
@@ -91,11 +92,13 @@ Command add_train_command(CLI::App& app) {
       ->needs(preview_option);
   add_device_option(*cmd, opt->device);
   add_scene_parameters_option(*cmd, opt->parameters);
+  add_sensor_option(*cmd, opt->sensor);
 
   return {cmd, [opt, cmd]() {
             radiosity::TrainRequest request;
             request.scene = opt->scene;
             request.parameters = opt->parameters;
+            request.sensor = opt->sensor;
             request.run_dir = opt->run_dir;
             request.device = opt->device;
             request.preset = opt->preset;

@@ -92,7 +92,7 @@ TrainOutcome train(const TrainRequest& request) {
   if (config.steps == 0 && config.minutes == 0 && opt.preset.empty())
     throw InputError("give a budget: --steps S or --minutes T (or a --preset)");
 
-  const auto scene = scene::load_scene(opt.scene, opt.parameters);
+  const auto scene = scene::load_scene(opt.scene, opt.parameters, opt.sensor);
   const auto& ranks = distributed::Communicator::world();
   ranks.require_same("the scenes (the contents of their files)",
                      Digest().add(scene::fingerprint(scene).digest).value());

@@ -21,6 +21,7 @@ class Trainer;
 struct TrainRequest {
   std::string scene;                              // the scene file
   std::map<std::string, std::string> parameters;  // the scene's $parameters (-D)
+  int sensor = 0;                                 // the sensor evaluations and previews render (--sensor)
   std::string run_dir, device, preset, config_file;
   nlohmann::json config;  // settings given inline, as a config file holds them (null: none)
   bool resume = false, other_scene = false;

@@ -39,6 +39,7 @@ struct Scene {
   // nullopt where the scene names none.
   std::optional<int> sample_count;
   bool has_sensor = false;  // false: `camera` holds defaults, not a view the file chose
+  int sensor_count = 0;     // the file's <sensor>s; `camera` and `sample_count` are the chosen one's (load_scene)
   // Every file the scene was read from — the XML first, then includes, meshes, textures and environment maps in the
   // order first read: a command's inputs (no output may replace one) and what a scene's fingerprint covers.
   std::vector<std::filesystem::path> files;
@@ -52,9 +53,12 @@ struct Scene {
   const Bsdf& bsdf(const Shape& s) const { return *materials[std::size_t(s.material)]; }
 };
 
-// Loads a Mitsuba scene (versions 0.5–3). `parameters` override the file's <default> values (like mitsuba -D).
-// InputError with "file:line: <element>: problem" on any unsupported, missing or malformed input.
-Scene load_scene(const std::filesystem::path& path, const std::map<std::string, std::string>& parameters = {});
+// Loads a Mitsuba scene (versions 0.5–3). `parameters` override the file's <default> values (like mitsuba -D);
+// `sensor` picks which of its sensors, in the file's order, is the camera (--sensor, as Mitsuba's sensor index).
+// InputError with "file:line: <element>: problem" on any unsupported, missing or malformed input, and naming the
+// sensor count when `sensor` is not one of them.
+Scene load_scene(const std::filesystem::path& path, const std::map<std::string, std::string>& parameters = {},
+                 int sensor = 0);
 
 // What a command needs of a loaded scene, as InputErrors naming the file: light to render or train on (an area
 // emitter or an environment; without one every radiance is zero, which is never what was meant), and a sensor to

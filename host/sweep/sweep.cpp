@@ -84,15 +84,19 @@ void draw_figures(const SweepOptions& o) {
 // What every row of SWEEP_DIR's table depends on. Budgets, methods, sample counts and seeds only add rows; a change
 // of any of these would put rows measured another way into the same table.
 nlohmann::json defining_options(const SweepOptions& o, const scene::Scene& scene, int width, int height) {
-  return {{"scene", scene::fingerprint(scene).digest},
-          {"reference", o.reference.empty() ? "path-traced at " + std::to_string(o.reference_spp) + " spp"
-                                            : Digest().add_file(o.reference).hex()},
-          {"width", width},
-          {"height", height},
-          {"render_spp", o.render_spp},
-          {"residual_points", o.residual_points},
-          {"residual_samples", o.residual_samples},
-          {"config", o.base}};
+  nlohmann::json record = {
+      {"scene", scene::fingerprint(scene).digest},
+      {"reference", o.reference.empty() ? "path-traced at " + std::to_string(o.reference_spp) + " spp"
+                                        : Digest().add_file(o.reference).hex()},
+      {"width", width},
+      {"height", height},
+      {"render_spp", o.render_spp},
+      {"residual_points", o.residual_points},
+      {"residual_samples", o.residual_samples},
+      {"config", o.base}};
+  // Another sensor is another view; the first is left unrecorded, as sweeps recorded it before --sensor existed.
+  if (o.sensor != 0) record["sensor"] = o.sensor;
+  return record;
 }
 
 }  // namespace
@@ -102,7 +106,7 @@ void run_sweep(cl::Context& ctx, const SweepOptions& options) {
   SweepOptions o = options;
   std::sort(o.minutes.begin(), o.minutes.end());
   o.minutes.erase(std::unique(o.minutes.begin(), o.minutes.end()), o.minutes.end());
-  const scene::Scene scene = scene::load_scene(o.scene, o.scene_parameters);
+  const scene::Scene scene = scene::load_scene(o.scene, o.scene_parameters, o.sensor);
   scene::require_sensor(scene, o.scene);
   scene::require_emitter(scene, o.scene);
   const int width = o.width > 0 ? o.width : scene.camera.width, height = o.height > 0 ? o.height : scene.camera.height;
@@ -127,6 +131,7 @@ void run_sweep(cl::Context& ctx, const SweepOptions& options) {
                        {"reference", "--reference (its content) or --reference-spp"},
                        {"width", "--width"},
                        {"height", "--height"},
+                       {"sensor", "--sensor"},
                        {"render_spp", "--spp"},
                        {"residual_points", "--residual-points"},
                        {"residual_samples", "--residual-samples"},

@@ -17,6 +17,7 @@ namespace clr::sweep {
 struct SweepOptions {
   std::filesystem::path scene, dir;
   std::map<std::string, std::string> scene_parameters;  // -D key=value
+  int sensor = 0;                                       // --sensor: the view every image is taken from
   std::filesystem::path reference;                      // empty: path-trace one into SWEEP_DIR/reference.exr
   std::vector<double> minutes;                          // the time budgets, in training minutes
   std::vector<std::string> methods;

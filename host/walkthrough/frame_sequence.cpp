@@ -85,7 +85,9 @@ SequenceResult render_sequence(const geometry::Geometry& geometry, const std::ve
       [&](std::size_t k, image::Image&& img) {
         const std::size_t i = missing[k];
         if (o.png) image::write_png(frame_path(o.dir, i, "png"), img);
-        image::write_exr(frame_path(o.dir, i, "exr"), img);  // last: its presence marks the frame done
+        auto attributes = o.exr_attributes;
+        attributes["frame"] = std::to_string(i);
+        image::write_exr(frame_path(o.dir, i, "exr"), img, attributes);  // last: its presence marks the frame done
         ++result.rendered;
         progress.update(double(result.reused + result.rendered), "frame " + std::to_string(i));
       },

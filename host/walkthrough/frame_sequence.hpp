@@ -5,6 +5,7 @@
 // ones; FRAMES_DIR/frames.json records what the frames are of (scene, model, path, size, spp, seed) and a rerun that
 // would mix other frames in is refused.
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -19,6 +20,7 @@ struct SequenceOptions {
   bool png = false;           // a tonemapped PNG beside each EXR
   radiosity::RenderSettings settings;
   nlohmann::json record;  // what defines the frames (frames.json), beyond the cameras and settings
+  std::map<std::string, std::string> exr_attributes;  // every frame's EXR header records these, and its index
 };
 
 struct SequenceResult {

@@ -60,9 +60,10 @@ def set_quiet():
     _native.set_quiet()
 
 
-def load_scene(path, **parameters):
-    """A Mitsuba scene; keyword arguments fill its $parameters, as ``-D key=value`` (values become strings)."""
-    return _native.Scene(os.fspath(path), {str(k): _parameter(v) for k, v in parameters.items()})
+def load_scene(path, sensor=0, **parameters):
+    """A Mitsuba scene; keyword arguments fill its $parameters, as ``-D key=value`` (values become strings).
+    ``sensor``: which of its sensors, in the file's order, renders (as --sensor)."""
+    return _native.Scene(os.fspath(path), {str(k): _parameter(v) for k, v in parameters.items()}, int(sensor))
 
 
 def _parameter(value):

@@ -164,6 +164,23 @@ def _write(tmp_path, image, box):
     return path
 
 
+def test_a_scene_sensor_is_chosen_by_index(tmp_path):
+    scene = tmp_path / "two.xml"
+    text = BOX.read_text()
+    end = text.index("</sensor>") + len("</sensor>")
+    scene.write_text(text[:end] + '<sensor type="perspective"><float name="fov" value="40"/>'
+                     '<transform name="to_world"><lookat origin="0.5, 1.5, 4" target="0, 0.8, 0" up="0, 1, 0"/>'
+                     '</transform><sampler type="independent"><integer name="sample_count" value="2"/></sampler>'
+                     '<film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="16"/>'
+                     '</film></sensor>' + text[end:])
+    first, second = cr.load_scene(scene, res=32), cr.load_scene(scene, sensor=1, res=32)
+    assert (first.film, second.film, second.sensor_count, second.sensor) == ((32, 32), (24, 16), 2, 1)
+    assert first.digest == second.digest  # the same scene, another view
+    assert cr.reference(second).shape == (16, 24, 3)  # its own sampler's 2 spp
+    with pytest.raises(ValueError, match="has 2 sensors"):
+        cr.load_scene(scene, sensor=2)
+
+
 def test_reference_takes_the_scene_sampler_or_names_it(tmp_path):
     with pytest.raises(ValueError, match="sample_count"):
         cr.reference(cr.load_scene(BOX, res=8))

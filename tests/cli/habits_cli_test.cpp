@@ -1,6 +1,6 @@
 // The command-line habits Mitsuba and pbrt users bring (docs/cli.md): an image output's format from its extension,
 // -D key=value for the scene's parameters, reference's samples per pixel from the scene's sampler,
-// -q/--quiet, the metadata of EXRs.
+// -q/--quiet, the metadata of EXRs, --sensor.
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfStringAttribute.h>
@@ -154,6 +154,59 @@ TEST_F(HabitsCli, ReferenceTakesTheSamplersCount) {
   EXPECT_THAT(r.err, HasSubstr("--spp: give the samples per pixel"));
 }
 
+// The bundled box with a second sensor after its first: a 24 × 16 film elsewhere, its own sampler (2 spp).
+fs::path two_sensor_box(const fs::path& dir) {
+  std::ifstream in(kBox);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string xml = text.str();
+  const auto end = xml.find("</sensor>") + std::string("</sensor>").size();
+  xml.insert(end, R"(<sensor type="perspective"><float name="fov" value="40"/>
+      <transform name="to_world"><lookat origin="0.5, 1.5, 4" target="0, 0.8, 0" up="0, 1, 0"/></transform>
+      <sampler type="independent"><integer name="sample_count" value="2"/></sampler>
+      <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="16"/></film></sensor>)");
+  const fs::path scene = dir / "two-sensors.xml";
+  std::ofstream(scene) << xml;
+  return scene;
+}
+
+// --sensor INDEX, Mitsuba's sensor index: every command that renders a view takes the sensor it names, with that
+// sensor's film and sampler; one the scene lacks exits 2 naming how many it has.
+TEST_F(HabitsCli, SensorPicksTheView) {
+  const std::string scene = two_sensor_box(dir).string();
+  auto r = run_cli("reference " + scene + " --spp 1 -D res=32 -o " + (dir / "a.exr").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("32x32, 1 spp"));
+  r = run_cli("reference " + scene + " --sensor 1 -o " + (dir / "b.exr").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("24x16, 2 spp")) << "the second sensor's film and sampler";
+  for (const std::string& args : {"reference " + scene + " --sensor 2 --spp 1 -o " + (dir / "c.exr").string(),
+                                  "reference " + kBox + " --sensor 1 --spp 1 -o " + (dir / "c.exr").string()}) {
+    r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_THAT(r.err, HasSubstr("--sensor ")) << args;
+    EXPECT_THAT(r.err, HasSubstr(args.find(kBox) != std::string::npos ? "has 1 sensor" : "has 2 sensors (0 to 1)"));
+  }
+  EXPECT_FALSE(fs::exists(dir / "c.exr"));
+
+  // Training evaluates and previews through the sensor it is given; render and guide take theirs.
+  const fs::path run = dir / "run";
+  r = run_cli("train " + scene + " --sensor 1 --steps 4 --config " + config + " --reference " +
+              (dir / "b.exr").string() + " -o " + run.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err << "\nthe 24 × 16 reference fits the second sensor's film only";
+  r = run_cli("render " + scene + " --sensor 1 --model " + run.string() + " --spp 1 -o " + (dir / "r.exr").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rendered = image::read_exr(dir / "r.exr");
+  EXPECT_EQ(rendered.width, 24);
+  EXPECT_EQ(rendered.height, 16);
+  r = run_cli("guide " + scene + " --sensor 1 --model " + run.string() + " --pixel 100,5 --resolution 8 -o " +
+              (dir / "g.png").string());
+  EXPECT_EQ(r.exit_code, 2) << "pixel 100 lies outside the second sensor's 24-pixel film";
+  r = run_cli("guide " + scene + " --model " + run.string() + " --pixel 100,5 --resolution 8 -o " +
+              (dir / "g.png").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
 // -q/--quiet, pbrt's: no progress or informational lines on stderr; results on stdout and errors stay.
 TEST_F(HabitsCli, QuietLeavesResultsAndErrors) {
   const std::string reference = "reference " + kBox + " --spp 1 --width 4 --height 4 -o " + (dir / "q.exr").string();
@@ -204,6 +257,28 @@ TEST_F(HabitsCli, ExrsRecordHowTheyWereMade) {
   EXPECT_EQ(exr_attribute(img, "steps"), "5");
   EXPECT_EQ(exr_attribute(img, "spp"), "3");
   EXPECT_EQ(exr_attribute(img, "sceneDigest"), scene.at("digest").get<std::string>());
+
+  // Every other EXR a command writes: a walkthrough's frames (each with its index) and the guide's maps.
+  const fs::path frames = dir / "frames";
+  r = run_cli("render " + kBox + " --model " + (dir / "run").string() + " --orbit 2 --spp 2 --width 4 --height 4 -o " +
+              frames.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const std::string frame : {"0", "1"}) {
+    const fs::path f = frames / ("frame_0000" + frame + ".exr");
+    EXPECT_EQ(exr_attribute(f, "frame"), frame);
+    EXPECT_EQ(exr_attribute(f, "steps"), "5");
+    EXPECT_EQ(exr_attribute(f, "spp"), "2");
+    EXPECT_EQ(exr_attribute(f, "sceneDigest"), scene.at("digest").get<std::string>());
+    EXPECT_THAT(exr_attribute(f, "commandLine"), HasSubstr("--orbit 2"));
+  }
+  const fs::path map = dir / "guide.exr";
+  r = run_cli("guide " + kBox + " --model " + (dir / "run").string() + " --pixel 64,64 --resolution 8 -o " +
+              (dir / "guide.png").string() + " --exr " + map.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(exr_attribute(map, "pixel"), "64,64");
+  EXPECT_EQ(exr_attribute(map, "steps"), "5");
+  EXPECT_EQ(exr_attribute(map, "sceneDigest"), scene.at("digest").get<std::string>());
+  EXPECT_EQ(exr_attribute(map, "spp"), "") << "a guide map takes no camera samples";
 }
 
 }  // namespace

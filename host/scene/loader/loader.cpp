@@ -60,11 +60,16 @@ class Loader final : public loader::Context {
   };
 
  public:
-  explicit Loader(const std::map<std::string, std::string>& parameters) : params_(parameters), given_(parameters) {}
+  Loader(const std::map<std::string, std::string>& parameters, int sensor)
+      : params_(parameters), given_(parameters), sensor_(sensor) {}
 
   Scene load(const std::filesystem::path& path) {
     scene_folder_ = path.parent_path();
     load_file(path, nullptr);
+    if (sensor_ < 0 || sensor_ >= std::max(1, scene_.sensor_count))
+      throw InputError("--sensor " + std::to_string(sensor_) + ": " + path.string() + " has " +
+                       std::to_string(scene_.sensor_count) + " sensor" + (scene_.sensor_count == 1 ? "" : "s") +
+                       (scene_.sensor_count > 1 ? " (0 to " + std::to_string(scene_.sensor_count - 1) + ")" : ""));
     for (const auto& [name, value] : given_)
       if (const auto d = defaults_.find(name); d == defaults_.end() || d->second != value)
         scene_.parameters[name] = value;
@@ -577,21 +582,20 @@ class Loader final : public loader::Context {
     const Props p(n);
     const auto reader = loader::sensor_reader(p.type());
     if (!reader) n.fail("unsupported sensor type '" + p.type() + "' (perspective, thinlens, orthographic)");
-    if (sensor_seen_) n.fail("a scene has one sensor");
-    sensor_seen_ = true;
-    scene_.has_sensor = true;
-    reader(*this, p, scene_.camera);
+    // Every sensor is read and checked, in order (Mitsuba's scene.sensors()); the chosen one (--sensor) is the
+    // scene's camera.
+    Camera c;
+    std::optional<int> sample_count;
+    reader(*this, p, c);
     p.check_all_used();
-    Camera& c = scene_.camera;
     for (const Node& o : p.objects) {
       if (o.tag() == "sampler") {
         // Read only for `reference`'s default spp: a count this loader cannot read (an undefined $spp, as the
         // Mitsuba docs' scenes have) leaves the scene without one instead of refusing a scene that renders.
         try {
-          if (const Props sampler(o); sampler.has("sample_count"))
-            scene_.sample_count = sampler.integer("sample_count", 0);
+          if (const Props sampler(o); sampler.has("sample_count")) sample_count = sampler.integer("sample_count", 0);
         } catch (const InputError&) {
-          scene_.sample_count.reset();
+          sample_count.reset();
         }
         continue;
       }
@@ -604,6 +608,11 @@ class Loader final : public loader::Context {
       } catch (const InputError& e) {
         o.fail(e.what());
       }
+    }
+    if (scene_.sensor_count++ == sensor_) {
+      scene_.camera = c;
+      scene_.sample_count = sample_count;
+      scene_.has_sensor = true;
     }
   }
 
@@ -634,15 +643,15 @@ class Loader final : public loader::Context {
   std::map<std::tuple<std::string, bool, float>, std::shared_ptr<const Bitmap>> bitmaps_;
   std::map<const Bsdf*, int> material_ids_;
   std::shared_ptr<const Bsdf> default_bsdf_;
-  bool sensor_seen_ = false;
+  int sensor_ = 0;  // the sensor that becomes the scene's camera
   std::set<std::filesystem::path> recorded_;
   Scene scene_;
 };
 
 }  // namespace
 
-Scene load_scene(const std::filesystem::path& path, const std::map<std::string, std::string>& parameters) {
-  return Loader(parameters).load(path);
+Scene load_scene(const std::filesystem::path& path, const std::map<std::string, std::string>& parameters, int sensor) {
+  return Loader(parameters, sensor).load(path);
 }
 
 void require_emitter(const Scene& scene, const std::filesystem::path& path) {
