@@ -245,6 +245,12 @@ PYBIND11_MODULE(_clradiosity, m) {
       .def_property_readonly("sample_count", [](const Scene& s) { return s.scene().sample_count; })
       .def_property_readonly("shape_count", [](const Scene& s) { return s.scene().shapes.size(); });
 
+  m.def("setting_flags", [] {
+    std::vector<std::pair<std::string, std::string>> flags;
+    for (const auto& f : radiosity::setting_flags()) flags.emplace_back(f.flag, f.pointer);
+    return flags;
+  });
+
   // train(request fields, settings patch as a callable, callback): radiosity::train, as `clradiosity train` runs it.
   m.def(
       "train",

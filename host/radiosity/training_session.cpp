@@ -45,17 +45,8 @@ void print_exchange(const distributed::ExchangeStats& s, std::uint64_t steps) {
 void require_same_settings(const radiosity::TrainConfig& given, const radiosity::TrainConfig& saved,
                            const std::function<bool(const char*)>& flag_given) {
   const nlohmann::json g = given, s = saved;
-  for (const auto& [flag, pointer] : {std::pair{"--method", "/method"},
-                                      {"--is-loss", "/is_loss"},
-                                      {"--bsdf-fraction", "/bsdf_fraction"},
-                                      {"--samples", "/samples"},
-                                      {"--batch", "/batch"},
-                                      {"--seed", "/seed"},
-                                      {"--residual", "/residual"},
-                                      {"--learning-rate", "/network/adam/learning_rate"},
-                                      {"--guide-learning-rate", "/guide/adam/learning_rate"},
-                                      {"--gemm", "/network/gemm"}}) {
-    if (!flag_given(flag)) continue;
+  for (const auto& [flag, pointer, fixed] : setting_flags()) {
+    if (!fixed || !flag_given(flag)) continue;
     const nlohmann::json::json_pointer at(pointer);
     const nlohmann::json want = g.value(at, nlohmann::json()), have = s.value(at, nlohmann::json());
     // Learning rates are stored as float: equal to a double up to its precision.
@@ -69,6 +60,22 @@ void require_same_settings(const radiosity::TrainConfig& given, const radiosity:
 }
 
 }  // namespace
+
+const std::vector<SettingFlag>& setting_flags() {
+  static const std::vector<SettingFlag> flags = {{"--method", "/method", true},
+                                                 {"--is-loss", "/is_loss", true},
+                                                 {"--bsdf-fraction", "/bsdf_fraction", true},
+                                                 {"--samples", "/samples", true},
+                                                 {"--batch", "/batch", true},
+                                                 {"--seed", "/seed", true},
+                                                 {"--residual", "/residual", true},
+                                                 {"--learning-rate", "/network/adam/learning_rate", true},
+                                                 {"--guide-learning-rate", "/guide/adam/learning_rate", true},
+                                                 {"--gemm", "/network/gemm", true},
+                                                 {"--steps", "/steps", false},
+                                                 {"--minutes", "/minutes", false}};
+  return flags;
+}
 
 TrainOutcome train(const TrainRequest& request) {
   const auto& opt = request;

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "radiosity/convergence.hpp"
 #include "radiosity/train_config.hpp"
@@ -47,6 +48,16 @@ struct TrainOutcome {
   bool preview_written = false;
   std::optional<std::filesystem::path> convergence;  // the figure, where the log had rows to draw
 };
+
+// The settings `train` takes by flag, and where each lives in config.json (a JSON pointer). A resumed run refuses one
+// that contradicts its config — all but the budget, which a resume may extend. The Python module's keyword arguments
+// are these flags' names.
+struct SettingFlag {
+  const char* flag;
+  const char* pointer;
+  bool fixed_on_resume;
+};
+const std::vector<SettingFlag>& setting_flags();
 
 // Trains as `request` says. InputError (before any step, and before RUN_DIR exists where the request itself is at
 // fault) for bad input; informational lines on stderr unless Progress::silenced().

@@ -76,22 +76,11 @@ def _scene(scene):
     return scene if isinstance(scene, _native.Scene) else load_scene(scene)
 
 
-# Keyword arguments of train() and where each goes in the run's settings (config.json), with the CLI flag it
-# stands for (a resumed run refuses a flag that contradicts its settings).
-_SETTINGS = {
-    "method": (("method",), "--method"),
-    "is_loss": (("is_loss",), "--is-loss"),
-    "residual": (("residual",), "--residual"),
-    "samples": (("samples",), "--samples"),
-    "batch": (("batch",), "--batch"),
-    "steps": (("steps",), "--steps"),
-    "minutes": (("minutes",), "--minutes"),
-    "seed": (("seed",), "--seed"),
-    "bsdf_fraction": (("bsdf_fraction",), "--bsdf-fraction"),
-    "learning_rate": (("network", "adam", "learning_rate"), "--learning-rate"),
-    "guide_learning_rate": (("guide", "adam", "learning_rate"), "--guide-learning-rate"),
-    "gemm": (("network", "gemm"), "--gemm"),
-}
+# Keyword arguments of train(): the flags of `clradiosity train` that set a run's settings, by their names
+# ("--is-loss" is is_loss), each with its path in config.json and the flag itself (a resumed run refuses a flag that
+# contradicts its settings).
+_SETTINGS = {flag[2:].replace("-", "_"): (tuple(pointer.strip("/").split("/")), flag)
+             for flag, pointer in _native.setting_flags()}
 
 
 def train(scene, out, *, steps=None, minutes=None, method=None, config=None, preset=None, device=None, resume=False,
