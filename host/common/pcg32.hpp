@@ -13,6 +13,15 @@ class Pcg32 {
     state_ += index;
     next_uint();
   }
+  // The stream of sample `sample` of pixel `pixel`: each sample its own, so that the first n samples of an image are
+  // the same whichever passes or sessions drew them (a resumed reference equals one rendered in one go). The key is
+  // hashed (splitmix64's finaliser) because neighbouring keys would start at correlated states of one sequence.
+  static Pcg32 for_sample(std::uint64_t pixel, std::uint64_t sample, std::uint64_t seed) {
+    std::uint64_t key = (pixel << 26) ^ sample;  // distinct for pixel < 2^38, sample < 2^26
+    key = (key ^ (key >> 30)) * 0xbf58476d1ce4e5b9ull;
+    key = (key ^ (key >> 27)) * 0x94d049bb133111ebull;
+    return Pcg32(key ^ (key >> 31), seed);
+  }
   std::uint32_t next_uint() {
     const std::uint64_t old = state_;
     state_ = old * 6364136223846793005ull + inc_;

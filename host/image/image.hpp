@@ -28,7 +28,8 @@ inline constexpr std::size_t kMaxPixels = std::size_t(1) << 27;
 void check_image_size(long long width, long long height, const std::string& what);
 
 // RGB channels of an OpenEXR file (missing G/B replicate R; alpha ignored). InputError naming the file on failure.
-Image read_exr(const std::filesystem::path& path);
+// `attributes`, where given, receives the header's string attributes (write_exr's).
+Image read_exr(const std::filesystem::path& path, std::map<std::string, std::string>* attributes = nullptr);
 // Writes a float32 RGB EXR, atomically (temp name, then rename), so no partial file is left behind. `attributes`
 // become string attributes of its header (what made the image: spp, seconds, seed, …, as pbrt records them).
 void write_exr(const std::filesystem::path& path, const Image& img,

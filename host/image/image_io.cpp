@@ -119,7 +119,7 @@ void check_image_size(long long width, long long height, const std::string& what
                      " exceeds the limit of " + std::to_string(kMaxPixels) + " pixels");
 }
 
-Image read_exr(const fs::path& path) {
+Image read_exr(const fs::path& path, std::map<std::string, std::string>* attributes) {
   if (!fs::exists(path)) throw InputError("image file not found: " + path.string());
   if (!fs::is_regular_file(path)) throw InputError("image file is not a regular file: " + path.string());
   try {
@@ -162,6 +162,10 @@ Image read_exr(const fs::path& path) {
       if (present[c]) fb.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
+    if (attributes)
+      for (auto a = file.header().begin(); a != file.header().end(); ++a)
+        if (const auto* text = dynamic_cast<const Imf::StringAttribute*>(&a.attribute()))
+          (*attributes)[a.name()] = text->value();
     for (std::size_t i = 0; i < img.rgb.size(); i += 3)
       for (int c = 1; c < 3; ++c)
         if (!present[c]) img.rgb[i + std::size_t(c)] = img.rgb[i];

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <vector>
 
 #include "common/error.hpp"
 #include "common/parallel.hpp"
@@ -111,57 +112,89 @@ image::Image render(const geometry::Geometry& geometry, const RenderOptions& opt
   const scene::Camera camera = options.camera.value_or(geometry.scene().camera).resized(options.width, options.height);
   image::check_image_size(camera.width, camera.height, "--width × --height");
   const PathTracer tracer(geometry, options.max_depth.value_or(geometry.scene().max_depth));
-  image::Image img(camera.width, camera.height);
-  std::atomic<std::uint64_t> rays{0}, non_finite{0};
-  std::atomic<int> rows_done{0};
-  std::mutex progress_mutex;
+  const auto width = std::size_t(camera.width);
   const auto stride = std::size_t(std::max(1, options.row_stride)),
              offset = std::size_t(std::max(0, options.row_offset));
   const std::size_t rows =
       offset < std::size_t(camera.height) ? (std::size_t(camera.height) - offset - 1) / stride + 1 : 0;
+  // A pass draws `per_pass` samples of every pixel, back to back (they trace alike, which keeps caches and branch
+  // predictors warm), and ~2^22 samples in all (a second or two on a few cores) so that its start and end cost nothing;
+  // from the whole image's size, never a rank's share, so that every rank groups the sums alike.
+  const int per_pass = int(std::clamp<std::size_t>((std::size_t(1) << 22) / (width * std::size_t(camera.height)), 1,
+                                                   std::size_t(std::max(1, options.spp))));
+  // The sums of the finished passes, and those of the pass under way, added to them only once it is whole.
+  std::vector<glm::dvec3> sum(rows * width, glm::dvec3(0.0)), pass(rows * width);
+  std::atomic<std::uint64_t> rays{0};
+  std::uint64_t non_finite = 0;
+  std::atomic<std::size_t> row_samples{0};  // rows × samples traced, for the progress line
+  std::mutex progress_mutex;
   std::optional<Progress> progress;
-  if (options.progress) progress.emplace("reference", double(rows));
+  if (options.progress)
+    progress.emplace("reference", double(rows) * double(options.first_sample + options.spp), 5.0,
+                     double(rows) * double(options.first_sample));
   const auto start = std::chrono::steady_clock::now();
 
-  parallel_for(rows, 1, [&](std::size_t i0, std::size_t i1) {
-    std::uint64_t local_rays = 0, local_bad = 0;
-    for (std::size_t i = i0; i < i1; ++i) {
-      const std::size_t y = offset + i * stride;
-      for (int x = 0; x < camera.width; ++x) {
-        if (options.stoppable && stop_requested()) break;
-        Pcg32 rng(y * std::size_t(camera.width) + std::size_t(x), options.seed);
-        glm::dvec3 sum(0.0);
-        for (int s = 0; s < options.spp; ++s) {
-          const float px = float(x) + rng.next_float(), py = float(y) + rng.next_float();
-          // A thin lens draws its aperture point; pinholes draw nothing more (their streams stay as they were).
-          const scene::Vec2 lens =
-              camera.aperture_radius > 0 ? scene::Vec2(rng.next_float(), rng.next_float()) : scene::Vec2(0.5f);
-          const auto cr = camera.ray(px, py, lens);
-          const Rgb L = tracer.radiance({cr.origin, cr.tnear, cr.direction, cr.tfar}, rng, local_rays);
-          if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z))
-            sum += glm::dvec3(L);
-          else
-            ++local_bad;
+  int spp = 0;  // in `sum`
+  while (spp < options.spp) {
+    const int first = options.first_sample + spp, count = std::min(per_pass, options.spp - spp);
+    std::atomic<bool> cut{false};
+    std::atomic<std::uint64_t> bad{0};
+    parallel_for(rows, 1, [&](std::size_t i0, std::size_t i1) {
+      std::uint64_t local_rays = 0, local_bad = 0;
+      for (std::size_t i = i0; i < i1 && !cut; ++i) {
+        const std::size_t y = offset + i * stride;
+        for (std::size_t x = 0; x < width; ++x) {
+          if (options.stoppable && stop_requested()) {
+            cut = true;
+            break;
+          }
+          glm::dvec3 pixel_sum(0.0);
+          for (int s = first; s < first + count; ++s) {
+            Pcg32 rng = Pcg32::for_sample(y * width + x, std::uint64_t(s), options.seed);
+            const float px = float(x) + rng.next_float(), py = float(y) + rng.next_float();
+            // A thin lens draws its aperture point; pinholes draw nothing more.
+            const scene::Vec2 lens =
+                camera.aperture_radius > 0 ? scene::Vec2(rng.next_float(), rng.next_float()) : scene::Vec2(0.5f);
+            const auto cr = camera.ray(px, py, lens);
+            const Rgb L = tracer.radiance({cr.origin, cr.tnear, cr.direction, cr.tfar}, rng, local_rays);
+            if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z))
+              pixel_sum += glm::dvec3(L);
+            else
+              ++local_bad;
+          }
+          pass[i * width + x] = pixel_sum;
         }
-        const glm::dvec3 mean = sum / double(options.spp);
-        float* p = img.pixel(x, int(y));
-        p[0] = float(mean.x);
-        p[1] = float(mean.y);
-        p[2] = float(mean.z);
+        const std::size_t done = row_samples += std::size_t(count);
+        if (progress) {
+          std::lock_guard lock(progress_mutex);
+          progress->update(double(rows) * double(options.first_sample) + double(done));
+        }
       }
-      const int done = ++rows_done;
-      if (progress) {
-        std::lock_guard lock(progress_mutex);
-        progress->update(done);
-      }
-    }
-    rays += local_rays;
-    non_finite += local_bad;
-  });
+      rays += local_rays;
+      bad += local_bad;
+    });
+    if (cut) break;
+    parallel_for(sum.size(), std::size_t(1) << 16, [&](std::size_t p0, std::size_t p1) {
+      for (std::size_t p = p0; p < p1; ++p) sum[p] += pass[p];
+    });
+    non_finite += bad;
+    spp += count;
+  }
   if (progress) progress->finish();
+
+  image::Image img(camera.width, camera.height);
+  for (std::size_t i = 0; i < rows && spp > 0; ++i)
+    for (std::size_t x = 0; x < width; ++x) {
+      const glm::dvec3 mean = sum[i * width + x] / double(spp);
+      float* p = img.pixel(int(x), int(offset + i * stride));
+      p[0] = float(mean.x);
+      p[1] = float(mean.y);
+      p[2] = float(mean.z);
+    }
   if (stats) {
+    stats->spp = spp;
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    stats->paths = std::uint64_t(camera.width) * std::uint64_t(rows) * std::uint64_t(options.spp);
+    stats->paths = std::uint64_t(width) * std::uint64_t(rows) * std::uint64_t(spp);
     stats->rays = rays;
     stats->non_finite = non_finite;
   }

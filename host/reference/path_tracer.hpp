@@ -1,8 +1,9 @@
 #pragma once
 // The reference: a unidirectional path tracer with next-event estimation, multiple importance sampling (power
-// heuristic) and Russian roulette, over the same scene, geometry and BSDF code the trainer uses. Pixel (x, y)
-// draws all its samples from its own PCG32 stream (index y·width + x, stream = seed), so an image depends only on
-// the seed, never on the thread count.
+// heuristic) and Russian roulette, over the same scene, geometry and BSDF code the trainer uses. Every sample of
+// every pixel draws from its own PCG32 stream (Pcg32::for_sample: pixel y·width + x, sample index, seed), so an image
+// depends only on the seed, never on the thread count, and the first n samples are the same in a longer render.
+// The image is rendered in passes of a few samples per pixel, summed in double, so that a stop keeps whole passes.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -16,6 +17,9 @@ struct RenderOptions {
   int width = 0, height = 0;            // 0: the scene's film
   std::optional<scene::Camera> camera;  // another view than the scene's sensor (a frame of a camera path)
   int spp = 16;
+  // The samples drawn are [first_sample, first_sample + spp): a render that continues one of first_sample samples
+  // (`reference --resume`) draws what a longer render would have.
+  int first_sample = 0;
   // Longest path in segments (1: emitters seen directly only); -1: unbounded (roulette ends it). Unset: the
   // scene's integrator max_depth.
   std::optional<int> max_depth;
@@ -24,16 +28,17 @@ struct RenderOptions {
   // Only rows y ≡ row_offset (mod row_stride) are rendered, the rest left 0: an MPI rank's share of the image.
   // Interleaved rows give every rank a like mix of the image's costly and cheap parts.
   int row_offset = 0, row_stride = 1;
-  // Pixels stop being traced once a stop is requested (common/stop_signal.hpp), so that a signal ends even a long
-  // render within moments: the image is then incomplete, and the caller must not use it (check stop_requested()).
+  // A stop (common/stop_signal.hpp) ends the render within moments: the pass under way is dropped and the image is
+  // the mean of the passes finished, RenderStats::spp of them (0: an image of zeros that measures nothing).
   bool stoppable = false;
 };
 
 struct RenderStats {
+  int spp = 0;  // samples per pixel in the image: RenderOptions::spp unless a stop cut the render short
   double seconds = 0;
   std::uint64_t paths = 0;       // of the rows rendered
   std::uint64_t rays = 0;        // closest-hit and shadow rays
-  std::uint64_t non_finite = 0;  // samples dropped for being NaN or infinite
+  std::uint64_t non_finite = 0;  // samples of the image's passes dropped (counted as 0) for being NaN or infinite
 };
 
 image::Image render(const geometry::Geometry& geometry, const RenderOptions& options, RenderStats* stats = nullptr);

@@ -6,6 +6,8 @@
 #include <ImfStringAttribute.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,6 +16,7 @@
 #include <string>
 
 #include "image/image.hpp"
+#include "support/background_cli.hpp"
 #include "support/cli_run_dir.hpp"
 #include "support/run_cli.hpp"
 
@@ -234,6 +237,74 @@ std::string exr_attribute(const fs::path& file, const std::string& name) {
   Imf::InputFile in(file.c_str());
   const auto* a = in.header().findTypedAttribute<Imf::StringAttribute>(name);
   return a ? a->value() : "";
+}
+
+// pbrt and Mitsuba users stop a long reference and continue it: Ctrl-C keeps the finished passes (exit 130), and
+// --resume adds only the samples the image lacks, giving the image one longer render gives.
+TEST_F(HabitsCli, ReferenceKeepsItsPassesOnCtrlCAndResumes) {
+  const std::string base = "reference " + kBox + " --width 24 --height 16 --seed 3 ";
+  const fs::path part = dir / "part.exr", whole = dir / "whole.exr";
+  ASSERT_EQ(run_cli(base + "--spp 3 -o " + part.string()).exit_code, 0);
+  auto r = run_cli(base + "--spp 10 --resume -o " + part.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("10 spp"));
+  EXPECT_THAT(r.err, HasSubstr("3 spp so far; adding 7"));
+  ASSERT_EQ(run_cli(base + "--spp 10 -o " + whole.string()).exit_code, 0);
+  const auto a = image::read_exr(part), b = image::read_exr(whole);
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) ASSERT_NEAR(a.rgb[i], b.rgb[i], 1e-6f * (1 + b.rgb[i])) << i;
+  EXPECT_EQ(exr_attribute(part, "spp"), "10");
+  EXPECT_EQ(exr_attribute(part, "maxDepth"), exr_attribute(whole, "maxDepth"));
+  // Enough already: nothing to add, the file untouched.
+  const auto written = fs::last_write_time(part);
+  r = run_cli(base + "--spp 6 --resume -o " + part.string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("already has 10 spp"));
+  EXPECT_EQ(fs::last_write_time(part), written);
+  // Another render's image is not continued: each setting that decides the samples, named; and only an EXR.
+  for (const auto& [settings, named] :
+       std::vector<std::pair<std::string, std::string>>{{"--width 24 --height 16 --seed 4", "seed"},
+                                                        {"--width 12 --height 8 --seed 3", "size"},
+                                                        {"--width 24 --height 16 --seed 3 --max-depth 2", "maxDepth"},
+                                                        {"--width 24 --height 16 --seed 3 -D res=64", "sceneDigest"}}) {
+    r = run_cli("reference " + kBox + " " + settings + " --spp 12 --resume -o " + part.string());
+    EXPECT_EQ(r.exit_code, 2) << settings;
+    EXPECT_THAT(r.err, HasSubstr("its " + named + " is")) << settings << "\n" << r.err;
+  }
+  EXPECT_EQ(fs::last_write_time(part), written);
+  r = run_cli(base + "--spp 12 --resume -o " + (dir / "p.png").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("must be an .exr"));
+  const fs::path model = dir / "model.exr";
+  ASSERT_EQ(run_cli("render " + kBox + " --model " + train().string() + " --width 24 --height 16 -o " + model.string())
+                .exit_code,
+            0);
+  r = run_cli(base + "--spp 12 --resume -o " + model.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("is not an image of clradiosity reference")) << r.err;
+
+  // Ctrl-C during a long render: the finished passes are written (a pass is ~2^22 samples, so wait longer each try
+  // until one has ended), the file says how many samples it holds, and --resume continues from there.
+  const fs::path stopped = dir / "stopped.exr";
+  for (int wait_ms = 2000; wait_ms <= 64000 && !fs::exists(stopped); wait_ms *= 2) {
+    const pid_t pid = spawn_cli(words(base + "--spp 16000000 -o " + stopped.string()));
+    ASSERT_GE(pid, 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(wait_ms));
+    ::kill(pid, SIGINT);
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+    EXPECT_EQ(WEXITSTATUS(status), 130);
+  }
+  ASSERT_TRUE(fs::exists(stopped));
+  const int spp = std::stoi(exr_attribute(stopped, "spp"));
+  EXPECT_GT(spp, 0);
+  EXPECT_LT(spp, 16000000);
+  for (const auto& entry : fs::directory_iterator(dir))
+    EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << "left behind: " << entry.path();
+  r = run_cli(base + "--spp " + std::to_string(spp + 2) + " --resume -o " + stopped.string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(exr_attribute(stopped, "spp"), std::to_string(spp + 2));
 }
 
 // What made an EXR travels in its header, as pbrt records spp and render time.

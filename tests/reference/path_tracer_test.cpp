@@ -25,6 +25,38 @@ TEST(PathTracer, SameSeedSameImageOtherSeedOtherNoise) {
   EXPECT_NE(reference::render(geometry, opt).rgb, a.rgb);
 }
 
+// Every sample has its own stream: the first n samples of a longer render are the n of a shorter one, whichever
+// render drew them, so that a render continued from its first samples (reference --resume) is the longer render.
+// Equal up to the float rounding of the shorter image's mean; a whole render under other thread counts is equal bit
+// for bit (its sums are grouped alike).
+TEST(PathTracer, ALongerRenderContinuesTheSamplesOfAShorterOne) {
+  const auto scene = scene::load_scene(std::filesystem::path(CLR_SOURCE_DIR) / "scenes" / "cornell-box.xml");
+  const geometry::Geometry geometry(scene);
+  reference::RenderOptions opt;
+  opt.width = 24;
+  opt.height = 16;
+  opt.seed = 5;
+  opt.spp = 11;
+  reference::RenderStats stats;
+  const auto whole = reference::render(geometry, opt, &stats);
+  EXPECT_EQ(stats.spp, 11);
+  opt.spp = 4;
+  const auto first = reference::render(geometry, opt);
+  opt.first_sample = 4;
+  opt.spp = 7;
+  const auto rest = reference::render(geometry, opt);
+  double worst = 0, total = 0;
+  for (std::size_t i = 0; i < whole.rgb.size(); ++i) {
+    const double joined = (4.0 * first.rgb[i] + 7.0 * rest.rgb[i]) / 11.0;
+    worst = std::max(worst, std::abs(joined - whole.rgb[i]) / (std::abs(whole.rgb[i]) + 1e-3));
+    total += whole.rgb[i];
+  }
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_GT(total, 0.0);
+  // The samples after the first four are other samples: the continued part alone is another image.
+  EXPECT_NE(rest.rgb, first.rgb);
+}
+
 TEST(PathTracer, MaxDepthCountsPathSegments) {
   // In the enclosure (albedo 1/2, Le = 1 everywhere): 1 segment sees Le; 2 add one bounce, Le·(1 + ρ); 3 add
   // ρ²·Le. Depth 1 involves no randomness at all, so it is exact.
