@@ -59,13 +59,16 @@ std::optional<BsdfSample> Dielectric::sample(const TexturePoint& at, const Vec3&
                                              const Vec2& u) const {
   if (wo.z == 0) return std::nullopt;
   if (kind_ == Kind::rough) return sample_rough(at, wo, u_lobe, u);
-  const auto fr = fresnel_dielectric(wo.z, eta_);
   if (kind_ == Kind::thin) {
     // Sum of the slab's internal bounces: R + T²R/(1−R²) = 2R/(1+R) reflected, the rest passes straight through.
-    const float r = fr.reflectance < 1.0f ? 2.0f * fr.reflectance / (1.0f + fr.reflectance) : 1.0f;
+    // A slab has the same medium on both sides: light meets it as from outside whichever side it comes from (|cos|;
+    // the back side's inverted η would trap light behind a total internal reflection a slab cannot have).
+    const float f = fresnel_dielectric(std::fabs(wo.z), eta_).reflectance;
+    const float r = 2.0f * f / (1.0f + f);
     if (u_lobe < r) return BsdfSample{reflect_z(wo), reflectance_.eval(at), r, true};
     return BsdfSample{-wo, transmittance_.eval(at), 1.0f - r, true};
   }
+  const auto fr = fresnel_dielectric(wo.z, eta_);
   if (u_lobe < fr.reflectance) return BsdfSample{reflect_z(wo), reflectance_.eval(at), fr.reflectance, true};
   // Radiance crossing into a denser medium is compressed into a smaller solid angle: it scales by 1/η_ti² (η_ti:
   // IOR on the light's side over the viewer's side). The rough refraction term carries the same factor.
