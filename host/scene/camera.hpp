@@ -21,6 +21,10 @@ struct Camera {
   float fov_degrees = 45.0f;
   FovAxis fov_axis = FovAxis::x;
   float near_clip = 1e-2f, far_clip = 1e4f;  // distances along the view axis (Mitsuba's defaults)
+  // Mitsuba's principal_point_offset_x/y (perspective): the image plane shifted by these fractions of the film's
+  // width and height (+x towards the image's right, +y down), as a lens shift; the mitsuba-blender exporter writes
+  // them on every camera.
+  Vec2 principal_point_offset{0.0f};
   int width = 768, height = 576;
 
   struct Ray {

@@ -97,6 +97,10 @@ else:
     if "ThinLens" in kind:
         spec.update({"type": "thinlens", "aperture_radius": scalar(camera["aperture_radius"]),
                      "focus_distance": scalar(camera["focus_distance"])})
+    else:  # a lens shift, as fractions of the film: the same at any size
+        for key in ("principal_point_offset_x", "principal_point_offset_y"):
+            if key in camera:
+                spec[key] = scalar(camera[key])
 sensor = mi.load_dict(spec)
 integrator = mi.load_dict({"type": "path", "max_depth": int(max_depth)})
 image = mi.render(scene, sensor=sensor, integrator=integrator, spp=int(spp), seed=seed)

@@ -45,6 +45,34 @@ TEST_F(Sensors, ThinLensRaysMeetAtTheFocalPlane) {
   EXPECT_THROW(scene::load_scene(scene(R"(<sensor type="thinlens"/>)")), InputError);  // needs an aperture
 }
 
+// The mitsuba-blender exporter writes principal_point_offset_x/y on every perspective camera: a lens shift by those
+// fractions of the film, so the ray through (px, py) is the unshifted camera's ray through (px + x·W, py + y·H), at
+// any film size.
+TEST_F(Sensors, PrincipalPointOffsetShiftsTheImagePlane) {
+  const std::string camera = R"(<float name="fov" value="50"/>
+      <transform name="to_world"><lookat origin="1, 2, 3" target="0, 0, 0" up="0, 1, 0"/></transform>
+      <film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="20"/></film>)";
+  const auto plain = scene::load_scene(scene("<sensor type=\"perspective\">" + camera + "</sensor>", "3.0.0", "a.xml"));
+  const auto shifted = scene::load_scene(scene(R"(<sensor type="perspective">
+      <float name="principal_point_offset_x" value="0.25"/><float name="principal_point_offset_y" value="-0.1"/>)" +
+                                                   camera + "</sensor>",
+                                               "3.0.0", "b.xml"));
+  EXPECT_EQ(shifted.camera.principal_point_offset, Vec2(0.25f, -0.1f));
+  for (const int scale : {1, 3}) {
+    const auto a = plain.camera.resized(40 * scale, 20 * scale), b = shifted.camera.resized(40 * scale, 20 * scale);
+    for (const Vec2 pixel : {Vec2(0.5f, 0.5f), Vec2(20, 10), Vec2(37.3f, 18.9f)}) {
+      const Vec2 p = pixel * float(scale);
+      const auto r = b.ray(p.x, p.y), want = a.ray(p.x + 0.25f * float(a.width), p.y - 0.1f * float(a.height));
+      expect_vec(r.origin, want.origin);
+      expect_vec(r.direction, want.direction);
+    }
+  }
+  // Another view (render --camera) looks through its centre.
+  const float view[] = {0, 0, 5, 0, 0, 0, 0, 1, 0, 40};
+  const auto v = shifted.camera.pinhole_view(view, "--camera");
+  expect_vec(v.ray(20, 10).direction, Vec3(0, 0, -1));
+}
+
 TEST_F(Sensors, OrthographicRaysAreParallel) {
   const auto s = scene::load_scene(scene(R"(<sensor type="orthographic">
       <float name="near_clip" value="0.5"/>

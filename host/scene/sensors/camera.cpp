@@ -58,6 +58,7 @@ Camera Camera::pinhole_view(std::span<const float> c, const std::string& what) c
   view.fov_axis = FovAxis::y;
   view.projection = Projection::perspective;
   view.aperture_radius = 0;
+  view.principal_point_offset = Vec2(0.0f);  // a view through its centre
   view.validate(what);
   return view;
 }
@@ -94,7 +95,8 @@ void Camera::validate(const std::string& what) const {
 }
 
 Camera::Ray Camera::ray(float px, float py, const Vec2& lens) const {
-  const Vec2 screen(1.0f - 2.0f * px / float(width), 1.0f - 2.0f * py / float(height));
+  const Vec2 screen(1.0f - 2.0f * (px / float(width) + principal_point_offset.x),
+                    1.0f - 2.0f * (py / float(height) + principal_point_offset.y));
   if (projection == Projection::orthographic) {
     const Vec3 axis = Vec3(to_world * glm::vec4(0, 0, 1, 0));
     const float len = glm::length(axis);

@@ -53,6 +53,11 @@ void read_fov(const Props& p, Camera& c) {
 void read_perspective(Context&, const Props& p, Camera& c) {
   read_fov(p, c);
   read_clip_planes(p, c);
+  for (const auto& [name, value] : {std::pair{"principal_point_offset_x", &c.principal_point_offset.x},
+                                    std::pair{"principal_point_offset_y", &c.principal_point_offset.y}}) {
+    *value = p.number(name, 0.0f);
+    if (!std::isfinite(*value)) p.expect(name, {"float"}).fail(std::string(name) + " must be finite");
+  }
   c.to_world = p.transform("to_world");
 }
 
