@@ -495,8 +495,10 @@ class Loader final : public loader::Context {
         reference(o);
       } else if (t == "emitter") {
         auto e = emitter_plugin(o);
-        if (!e.area) o.fail("only area emitters can be attached to shapes");
-        set_emitter(o, *e.area);
+        if (e.area)
+          set_emitter(o, *e.area);
+        else  // Mitsuba renders a point, spot, … light nested in a shape as one declared beside it
+          add_light(o, std::move(e));
       } else {
         o.fail("unexpected inside a shape");
       }
@@ -509,10 +511,12 @@ class Loader final : public loader::Context {
     // 0), so light sampling never finds it. Our mesh could emit, but would render a different image: refused.
     if (s.is_emitter() && type == "sdfgrid")
       n.fail("an sdfgrid cannot be an area emitter (Mitsuba samples no point on it)");
-    // A null BSDF makes the surface vanish for every ray, its emission with it, while light sampling would still
-    // find the emitter: the two would disagree.
+    // An emitter that does not reflect: Mitsuba adds its emission where a ray meets it and lets the ray go on
+    // straight (its null BSDF's sample), while shadow rays stop there. A sheet of IOR 1 does exactly that, which
+    // the geometry's alpha test (a null BSDF's surface vanishes for every ray, its emission with it) would not.
     if (s.is_emitter() && b && dynamic_cast<const NullBsdf*>(b.get()))
-      n.fail("an emitting shape with a null BSDF is not supported (its surface is invisible to rays)");
+      b = std::make_shared<Dielectric>(Dielectric::Kind::thin, 1.0f, Texture(Rgb(1.0f)), Texture(Rgb(1.0f)),
+                                       std::nullopt);
     s.material = material_index(b ? b : default_bsdf());
     AttributeUses uses = b ? bsdf_uses_[b.get()] : AttributeUses{};
     if (s.radiance_texture) record_use(*s.radiance_texture, uses);
@@ -568,7 +572,14 @@ class Loader final : public loader::Context {
       // Mitsuba lets an area emitter be declared once and attached to shapes by <ref>.
       if (!n.has("id")) n.fail("an area emitter must be nested in a shape, or have an id a shape refers to");
       area_emitters_[n.attr("id")] = *e.area;
-    } else if (e.environment) {
+    } else {
+      add_light(n, std::move(e));
+    }
+  }
+
+  // An emitter that belongs to no shape: the environment or a delta light.
+  void add_light(const Node& n, loader::EmitterPlugin&& e) {
+    if (e.environment) {
       if (scene_.environment) n.fail("a scene has at most one environment emitter");
       scene_.environment = std::move(e.environment);
     } else if (e.delta) {
