@@ -16,6 +16,9 @@ namespace clr::scene {
 struct Bitmap {
   // Texel addressing outside [0, 1)² (Mitsuba's wrap_mode).
   enum class Wrap { repeat, mirror, clamp };
+  // Mitsuba 3's `format`, the precision texels are stored at: as read (auto, variant), rounded to half floats, or
+  // to 8 bits (linear values clamped to [0, 1] and quantised as Mitsuba does; an 8-bit file is stored so already).
+  enum class Storage { full, float16, uint8 };
   int width = 0, height = 0;
   std::vector<Rgb> texels;
   Rgb mean{0.0f};
@@ -23,7 +26,8 @@ struct Bitmap {
 
   // png/jpg/bmp (8-bit; sRGB-decoded unless `raw`, or decoded as value^gamma when `gamma` > 0, Mitsuba 0.x's
   // override) or exr/hdr (linear). InputError naming the file on failure.
-  static std::shared_ptr<const Bitmap> load(const std::filesystem::path& path, bool raw, float gamma = 0);
+  static std::shared_ptr<const Bitmap> load(const std::filesystem::path& path, bool raw, float gamma = 0,
+                                            Storage storage = Storage::full);
   Rgb texel(int x, int y, Wrap wrap = Wrap::repeat) const;
   Rgb bilinear(const Vec2& uv, Wrap wrap = Wrap::repeat) const;  // texel centres at half-integers
   Rgb nearest(const Vec2& uv, Wrap wrap = Wrap::repeat) const;

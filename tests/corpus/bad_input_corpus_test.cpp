@@ -187,7 +187,7 @@ const std::vector<Case>& cases() {
       generated_case("deep.xml", "nested deeper than"),
       scene_case("unknown_shape.xml", "unsupported shape type 'teapot'"),
       scene_case("unknown_bsdf.xml", "unsupported BSDF type 'velvet'"),
-      scene_case("unknown_element.xml", "<volume type=\"grid\">: unsupported element"),
+      scene_case("unknown_element.xml", "<volume type=\"grid\">: 3D grids (constvolume, gridvolume) are not supported"),
       scene_case("wrong_type_tag.xml", "wrong type"),
       scene_case("wrong_type_value.xml", "malformed number 'forty'"),
       scene_case("boolean_value.xml", "expected true or false"),

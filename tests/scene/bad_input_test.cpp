@@ -50,7 +50,15 @@ TEST_F(BadInput, UnsupportedPlugins) {
   expect_rejected(scene("<shape type=\"teapot\"/>"), {"scene.xml:2:", "unsupported shape type 'teapot'"});
   expect_rejected(scene("<emitter type=\"pulsar\"/>"), {"scene.xml:2:", "unsupported emitter type 'pulsar'"});
   expect_rejected(scene("<sensor type=\"fisheye\"/>"), {"scene.xml:2:", "unsupported sensor type"});
-  expect_rejected(scene("<volume/>"), {"scene.xml:2:", "<volume>", "unsupported element"});
+  expect_rejected(scene("<volume/>"), {"scene.xml:2:", "<volume>", "3D grids"});
+  expect_rejected(scene("<unicorn/>"), {"scene.xml:2:", "<unicorn>", "unsupported element"});
+  // A 3D grid texture, with its grid nested or not: named as what it is.
+  expect_rejected(scene("<shape type=\"cube\"><bsdf type=\"diffuse\">\n<texture type=\"volume\" "
+                        "name=\"reflectance\"><volume type=\"constvolume\" name=\"volume\"/></texture></bsdf></shape>"),
+                  {"scene.xml:3:", "3D grid textures (volume) are not supported"});
+  expect_rejected(scene("<shape type=\"cube\"><bsdf type=\"diffuse\">\n<texture type=\"bitmap\" "
+                        "name=\"reflectance\"><volume type=\"gridvolume\" name=\"volume\"/></texture></bsdf></shape>"),
+                  {"scene.xml:3:", "<volume", "3D grids"});
 }
 
 TEST_F(BadInput, BadNumbers) {

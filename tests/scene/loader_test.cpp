@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -294,6 +295,32 @@ TEST_F(Loader, TexturesBitmapAndCheckerboard) {
   EXPECT_FLOAT_EQ(checker.albedo(Vec2(0.1f, 0.1f)).x, 0.1f);  // uv ×2 = (0.2, 0.2): same halves → colour 0
   EXPECT_FLOAT_EQ(checker.albedo(Vec2(0.3f, 0.1f)).x, 0.9f);  // (0.6, 0.2): different halves → colour 1
   EXPECT_FLOAT_EQ(checker.albedo(Vec2(0.8f, 0.8f)).x, 0.1f);  // (1.6, 1.6): wraps around
+}
+
+// Mitsuba 3's bitmap `format`, the precision of the stored texels; the values below are what Mitsuba 3.9.1's
+// bitmap returns for an EXR of 0.3, 2.0, 0.001, 0.7 (nearest lookups, raw or not).
+TEST_F(Loader, BitmapFormatStoresTexelsAtItsPrecision) {
+  image::Image img(4, 1);
+  const float values[] = {0.3f, 2.0f, 0.001f, 0.7f};
+  for (int x = 0; x < 4; ++x) img.pixel(x, 0)[0] = img.pixel(x, 0)[1] = img.pixel(x, 0)[2] = values[x];
+  image::write_exr(dir_ / "tex.exr", img);
+  const auto texel = [&](const std::string& format, int x) {
+    const auto s = scene::load_scene(scene(R"(<shape type="rectangle"><bsdf type="diffuse">
+        <texture name="reflectance" type="bitmap"><string name="filename" value="tex.exr"/>
+        <string name="filter_type" value="nearest"/><string name="format" value=")" +
+                                               format + R"("/></texture></bsdf></shape>)",
+                                           "3.0.0", format + ".xml"));
+    return s.bsdf(s.shapes[0]).albedo(Vec2((float(x) + 0.5f) / 4.0f, 0.5f)).x;
+  };
+  const std::pair<std::string, std::array<float, 4>> expected[] = {
+      {"auto", {0.3f, 2.0f, 0.001f, 0.7f}},
+      {"variant", {0.3f, 2.0f, 0.001f, 0.7f}},
+      {"float16", {0.300049f, 2.0f, 0.001f, 0.700195f}},
+      {"uint8", {0.298039f, 1.0f, 0.0f, 0.701961f}},
+  };
+  for (const auto& [format, want] : expected)
+    for (int x = 0; x < 4; ++x) EXPECT_NEAR(texel(format, x), want[std::size_t(x)], 2e-6f) << format << " " << x;
+  EXPECT_THROW(texel("fixed16", 0), InputError);
 }
 
 TEST_F(Loader, EmittersAndIgnoredElements) {

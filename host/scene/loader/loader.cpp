@@ -109,6 +109,7 @@ class Loader final : public loader::Context {
       return it->second;
     }
     register_id(n, "texture");
+    if (const char* why = loader::refused_plugin("texture", n.attr_or("type", ""))) n.fail(why);
     const Props p(n);
     const auto reader = loader::texture_reader(p.type());
     if (!reader) n.fail("unsupported texture type '" + p.type() + "'");
@@ -139,9 +140,10 @@ class Loader final : public loader::Context {
     return out;
   }
 
-  std::shared_ptr<const Bitmap> bitmap(const std::filesystem::path& file, bool raw, float gamma) override {
-    auto& cached = bitmaps_[{file.string(), raw, gamma}];
-    if (!cached) cached = Bitmap::load(file, raw, gamma);
+  std::shared_ptr<const Bitmap> bitmap(const std::filesystem::path& file, bool raw, float gamma,
+                                       Bitmap::Storage storage) override {
+    auto& cached = bitmaps_[{file.string(), raw, gamma, storage}];
+    if (!cached) cached = Bitmap::load(file, raw, gamma, storage);
     return cached;
   }
 
@@ -651,7 +653,7 @@ class Loader final : public loader::Context {
   std::map<const Bsdf*, AttributeUses> bsdf_uses_;                 // what each material's textures read of a mesh
   std::map<std::string, Texture> area_emitters_;
   std::map<std::string, std::vector<Shape>> groups_;  // shapegroups by id
-  std::map<std::tuple<std::string, bool, float>, std::shared_ptr<const Bitmap>> bitmaps_;
+  std::map<std::tuple<std::string, bool, float, Bitmap::Storage>, std::shared_ptr<const Bitmap>> bitmaps_;
   std::map<const Bsdf*, int> material_ids_;
   std::shared_ptr<const Bsdf> default_bsdf_;
   int sensor_ = 0;  // the sensor that becomes the scene's camera

@@ -82,7 +82,8 @@ class Context {
   virtual Texture texture(const Node& texture_or_ref) = 0;
   // The BSDFs nested in (or referenced by) a plugin, in document order.
   virtual std::vector<std::shared_ptr<const Bsdf>> nested_bsdfs(const Props& p) = 0;
-  virtual std::shared_ptr<const Bitmap> bitmap(const std::filesystem::path& file, bool raw, float gamma) = 0;
+  virtual std::shared_ptr<const Bitmap> bitmap(const std::filesystem::path& file, bool raw, float gamma,
+                                               Bitmap::Storage storage) = 0;
 };
 
 std::shared_ptr<const Bsdf> single_nested_bsdf(Context& ctx, const Props& p);

@@ -20,7 +20,7 @@ bool is_object_tag(const std::string& t) {
 Props::Props(const Node& plugin) : node(plugin) {
   for (const Node& c : plugin.children()) {
     const std::string t = c.tag();
-    if (t == "medium" || t == "phase") c.fail(refused_plugin(t, c.attr_or("type", "")));
+    if (t == "medium" || t == "phase" || t == "volume") c.fail(refused_plugin(t, c.attr_or("type", "")));
     if (is_value_tag(t) || ((t == "texture" || t == "ref") && c.has("name"))) {
       const std::string name = c.attr("name");
       if (!named.emplace(name, c).second) c.fail("duplicate property '" + name + "'");

@@ -115,6 +115,11 @@ const char* refused_plugin(const std::string& kind, const std::string& type) {
       {"integrator", "stokes", "polarization is not modelled (radiance is unpolarized RGB)"},
       {"phase", "*", "participating media are not modelled: radiosity is surface-only"},
       {"medium", "*", "participating media are not modelled: radiosity is surface-only"},
+      {"texture", "volume",
+       "3D grid textures (volume) are not supported: textures here are 2D (bitmap, checkerboard, mesh_attribute)"},
+      {"volume", "*",
+       "3D grids (constvolume, gridvolume) are not supported: textures here are 2D (bitmap, checkerboard, "
+       "mesh_attribute), and media are not modelled"},
   };
   for (const auto& r : kRefused)
     if (kind == r.kind && (type == r.type || std::strcmp(r.type, "*") == 0)) return r.why;

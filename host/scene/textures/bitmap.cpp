@@ -1,5 +1,6 @@
 // Mitsuba's `bitmap` texture: filter_type nearest or bilinear (Mitsuba 0.x's mip-mapped trilinear and ewa read as
-// bilinear), wrap_mode repeat, mirror or clamp, `raw` (no sRGB decoding) or Mitsuba 0.x's `gamma`.
+// bilinear), wrap_mode repeat, mirror or clamp, `raw` (no sRGB decoding) or Mitsuba 0.x's `gamma`, and Mitsuba 3's
+// storage `format`.
 #include "scene/loader/plugin.hpp"
 #include "scene/textures/uv_transform.hpp"
 
@@ -22,6 +23,14 @@ Texture read_bitmap(Context& ctx, const Props& p) {
   // Mitsuba 0.x: gamma -1 means sRGB (the default), another positive value decodes v^gamma.
   const float gamma = p.number("gamma", -1.0f);
   if (!(gamma == -1.0f || gamma > 0)) p.expect("gamma", {"float"}).fail("gamma must be positive (or -1: sRGB)");
-  return Texture::bitmap(ctx.bitmap(file, p.boolean("raw", false), gamma), read_uv_transform(p), smooth, w);
+  const std::string format = p.string("format", "auto");
+  Bitmap::Storage storage = Bitmap::Storage::full;
+  if (format == "float16")
+    storage = Bitmap::Storage::float16;
+  else if (format == "uint8")
+    storage = Bitmap::Storage::uint8;
+  else if (format != "auto" && format != "variant")
+    p.expect("format", {"string"}).fail("unsupported format '" + format + "' (auto, variant, float16, uint8)");
+  return Texture::bitmap(ctx.bitmap(file, p.boolean("raw", false), gamma, storage), read_uv_transform(p), smooth, w);
 }
 }  // namespace clr::scene::loader

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/packing.hpp>
 #include <limits>
 
 #include "common/error.hpp"
@@ -28,7 +29,7 @@ int address(int i, int n, Bitmap::Wrap wrap) {
 }
 }  // namespace
 
-std::shared_ptr<const Bitmap> Bitmap::load(const std::filesystem::path& path, bool raw, float gamma) {
+std::shared_ptr<const Bitmap> Bitmap::load(const std::filesystem::path& path, bool raw, float gamma, Storage storage) {
   if (!std::filesystem::exists(path)) throw InputError(path.string() + ": texture file not found");
   auto ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -37,6 +38,11 @@ std::shared_ptr<const Bitmap> Bitmap::load(const std::filesystem::path& path, bo
   image::Image img = hdr ? image::read_float_image(path) : image::read_ldr(path, !raw && !(gamma > 0));
   if (!hdr && !raw && gamma > 0)
     for (float& v : img.rgb) v = std::pow(v, gamma);
+  if (storage == Storage::float16)
+    for (float& v : img.rgb) v = glm::unpackHalf1x16(glm::packHalf1x16(v));
+  if (storage == Storage::uint8 && hdr)
+    for (float& v : img.rgb)  // Mitsuba's float → byte conversion: ⌊256·v⌋, clamped to the byte's range
+      v = std::fmin(std::floor(std::clamp(v, 0.0f, 1.0f) * 256.0f), 255.0f) / 255.0f;
   auto bmp = std::make_shared<Bitmap>();
   bmp->width = img.width;
   bmp->height = img.height;
