@@ -314,9 +314,12 @@ class Loader final : public loader::Context {
   }
 
   // ---- BSDFs ----------------------------------------------------------------------------------------------------
-  std::shared_ptr<const Bsdf> default_bsdf() {
-    if (!default_bsdf_) default_bsdf_ = std::make_shared<Diffuse>(Texture(Rgb(0.5f)));
-    return default_bsdf_;
+  // A shape without a BSDF is diffuse 0.5, an emitting one black: Mitsuba (0.6 and 3) gives a light source an
+  // all-absorbing default, so that a lamp does not reflect the light of the room it lights.
+  std::shared_ptr<const Bsdf> default_bsdf(bool emitter = false) {
+    auto& b = default_bsdfs_[emitter ? 1 : 0];
+    if (!b) b = std::make_shared<Diffuse>(Texture(Rgb(emitter ? 0.0f : 0.5f)));
+    return b;
   }
 
   std::shared_ptr<const Bsdf> bsdf_reference(const Node& ref) {
@@ -519,7 +522,7 @@ class Loader final : public loader::Context {
     if (s.is_emitter() && b && dynamic_cast<const NullBsdf*>(b.get()))
       b = std::make_shared<Dielectric>(Dielectric::Kind::thin, 1.0f, Texture(Rgb(1.0f)), Texture(Rgb(1.0f)),
                                        std::nullopt);
-    s.material = material_index(b ? b : default_bsdf());
+    s.material = material_index(b ? b : default_bsdf(s.is_emitter()));
     AttributeUses uses = b ? bsdf_uses_[b.get()] : AttributeUses{};
     if (s.radiance_texture) record_use(*s.radiance_texture, uses);
     keep_attributes(n, s, uses);
@@ -655,7 +658,7 @@ class Loader final : public loader::Context {
   std::map<std::string, std::vector<Shape>> groups_;  // shapegroups by id
   std::map<std::tuple<std::string, bool, float, Bitmap::Storage>, std::shared_ptr<const Bitmap>> bitmaps_;
   std::map<const Bsdf*, int> material_ids_;
-  std::shared_ptr<const Bsdf> default_bsdf_;
+  std::shared_ptr<const Bsdf> default_bsdfs_[2];
   int sensor_ = 0;  // the sensor that becomes the scene's camera
   std::set<std::filesystem::path> recorded_;
   Scene scene_;
