@@ -155,11 +155,16 @@ class Ward final : public Bsdf {
 
 // Smooth (`conductor`) when `microfacet` is empty, else `roughconductor`, whose roughness may be a texture over uv
 // (`alpha`, or `alpha_u` and `alpha_v`; their first channel): it then replaces the microfacet's alphas.
+// Textured roughness (Mitsuba's roughconductor and roughdielectric): alpha, or alpha_u and alpha_v, as textures.
+struct RoughnessTextures {
+  Texture alpha_u, alpha_v;
+  // `base`'s distribution with the alphas at `at`, clamped away from 0 as Mitsuba does (below 1e-4 the lobe is
+  // numerically a delta).
+  Microfacet at(const Microfacet& base, const TexturePoint& at) const;
+};
+
 class Conductor final : public Bsdf {
  public:
-  struct RoughnessTextures {
-    Texture alpha_u, alpha_v;
-  };
   Conductor(Rgb eta, Rgb k, Texture specular, std::optional<Microfacet> microfacet,
             std::optional<RoughnessTextures> textured = std::nullopt)
       : eta_(eta), k_(k), specular_(std::move(specular)), mf_(microfacet), textured_(std::move(textured)) {}
@@ -234,23 +239,25 @@ class Dielectric final : public Bsdf {
  public:
   enum class Kind { smooth, rough, thin };
   Dielectric(Kind kind, float eta, Texture specular_reflectance, Texture specular_transmittance,
-             std::optional<Microfacet> microfacet);
+             std::optional<Microfacet> microfacet, std::optional<RoughnessTextures> textured = std::nullopt);
   Rgb eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
   float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
   std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
   Rgb albedo(const TexturePoint&) const override { return Rgb(1.0f); }
   float roughness() const override { return mf_ ? mf_->mean_alpha() : 0.0f; }
   bool has_non_delta() const override { return kind_ == Kind::rough; }
-  bool anisotropic() const override { return mf_ && mf_->anisotropic(); }
+  bool anisotropic() const override { return mf_ && (mf_->anisotropic() || textured_); }
   bool two_sided() const override { return true; }
 
  private:
   std::optional<BsdfSample> sample_rough(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const;
+  Microfacet microfacet(const TexturePoint& at) const { return textured_ ? textured_->at(*mf_, at) : *mf_; }
 
   Kind kind_;
   float eta_;
   Texture reflectance_, transmittance_;
   std::optional<Microfacet> mf_;
+  std::optional<RoughnessTextures> textured_;
 };
 
 // Mitsuba's `blendbsdf`: (1 − weight)·first + weight·second, the weight a texture over uv (its first channel).

@@ -58,6 +58,17 @@ std::vector<Case> cases() {
       return std::make_shared<scene::Dielectric>(scene::Dielectric::Kind::rough, 1.5f, Rgb(1.0f), Rgb(1.0f), m);
     };
   };
+  // Textured roughness whose texels (0.35, 0.15) differ from the lobe's stand-in alphas (0.1): eval, pdf and sample
+  // must all read the texels.
+  const scene::RoughnessTextures texels{scene::Texture(Rgb(0.35f)), scene::Texture(Rgb(0.15f))};
+  auto textured_glass = [texels](Microfacet m) {
+    return [m, texels] {
+      return std::make_shared<scene::Dielectric>(scene::Dielectric::Kind::rough, 1.5f, Rgb(1.0f), Rgb(1.0f), m, texels);
+    };
+  };
+  auto textured_conductor = [texels](Microfacet m) {
+    return [m, texels] { return std::make_shared<scene::Conductor>(kGold.eta, kGold.k, Rgb(1.0f), m, texels); };
+  };
   auto principled = [](scene::Principled::Params q) { return [q] { return std::make_shared<scene::Principled>(q); }; };
   return {
       {"diffuse", diffuse, 30},
@@ -90,6 +101,9 @@ std::vector<Case> cases() {
       {"roughdielectric_ggx_outside", rough_glass(mf(kGgx, 0.3f)), 35},
       {"roughdielectric_ggx_inside", rough_glass(mf(kGgx, 0.3f)), 160, 1.5f * 1.5f},
       {"roughdielectric_beckmann_outside", rough_glass(mf(kBeckmann, 0.4f)), 60},
+      {"roughdielectric_textured_outside", textured_glass(mf(kGgx, 0.1f)), 40},
+      {"roughdielectric_textured_inside", textured_glass(mf(kBeckmann, 0.1f)), 155, 1.5f * 1.5f},
+      {"roughconductor_textured", textured_conductor(mf(kGgx, 0.1f)), 50},
       {"roughdielectric_ggx_anisotropic_inside", rough_glass(mf(kGgx, 0.1f, 0.35f)), 150, 1.5f * 1.5f},
       {"pplastic_ggx_anisotropic", pplastic(mf(kGgx, 0.3f, 0.08f)), 50},
       {"roughdielectric_beckmann_inside", rough_glass(mf(kBeckmann, 0.2f)), 170, 1.5f * 1.5f},

@@ -20,6 +20,29 @@ float read_ior(const Props& p, const std::string& name, float fallback) {
   return v;
 }
 
+Microfacet read_rough_microfacet(Context& ctx, const Props& p, std::optional<RoughnessTextures>& textured) {
+  auto is_texture = [&](const char* name) {
+    const auto it = p.named.find(name);
+    return it != p.named.end() && (it->second.tag() == "texture" || it->second.tag() == "ref");
+  };
+  textured.reset();
+  if (!(is_texture("alpha") || is_texture("alpha_u") || is_texture("alpha_v"))) return read_microfacet(p);
+  if (p.has("alpha") && (p.has("alpha_u") || p.has("alpha_v")))
+    p.node.fail("give either 'alpha' or 'alpha_u' and 'alpha_v', not both");
+  if (p.has("alpha")) {
+    const Texture a = ctx.texture(p, "alpha", Rgb(0.1f));
+    textured = RoughnessTextures{a, a};
+  } else {
+    if (!p.has("alpha_u") || !p.has("alpha_v")) p.node.fail("give both 'alpha_u' and 'alpha_v'");
+    textured = RoughnessTextures{ctx.texture(p, "alpha_u", Rgb(0.1f)), ctx.texture(p, "alpha_v", Rgb(0.1f))};
+  }
+  if (!(textured->alpha_u.mean().x > 0 && textured->alpha_v.mean().x > 0)) p.node.fail("alpha must be positive");
+  Microfacet mf = read_microfacet(p, true);  // the distribution
+  mf.alpha = textured->alpha_u.mean().x;
+  mf.alpha_v = textured->alpha_v.mean().x;
+  return mf;
+}
+
 Microfacet read_microfacet(const Props& p, bool textured) {
   Microfacet mf;
   const std::string d = p.string("distribution", "beckmann");
@@ -34,7 +57,7 @@ Microfacet read_microfacet(const Props& p, bool textured) {
   if (textured) return mf;
   for (const char* name : {"alpha", "alpha_u", "alpha_v"})
     if (const Node* n = p.find(name); n && (n->tag() == "texture" || n->tag() == "ref"))
-      n->fail("textured roughness is not supported by " + p.type() + " (roughconductor has it)");
+      n->fail("textured roughness is not supported by " + p.type() + " (roughconductor and roughdielectric have it)");
   if (p.has("alpha_u") || p.has("alpha_v")) {
     if (p.has("alpha")) p.node.fail("give either 'alpha' or 'alpha_u' and 'alpha_v', not both");
     if (!p.has("alpha_u") || !p.has("alpha_v")) p.node.fail("give both 'alpha_u' and 'alpha_v'");

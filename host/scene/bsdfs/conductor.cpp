@@ -7,14 +7,14 @@
 
 namespace clr::scene {
 
-Microfacet Conductor::microfacet(const TexturePoint& at) const {
-  if (!textured_) return *mf_;
-  // Mitsuba clamps textured roughness away from 0 as well: below 1e-4 the lobe is numerically a delta.
-  Microfacet m = *mf_;
-  m.alpha = std::fmax(textured_->alpha_u.eval(at).x, 1e-4f);
-  m.alpha_v = std::fmax(textured_->alpha_v.eval(at).x, 1e-4f);
+Microfacet RoughnessTextures::at(const Microfacet& base, const TexturePoint& point) const {
+  Microfacet m = base;
+  m.alpha = std::fmax(alpha_u.eval(point).x, 1e-4f);
+  m.alpha_v = std::fmax(alpha_v.eval(point).x, 1e-4f);
   return m;
 }
+
+Microfacet Conductor::microfacet(const TexturePoint& at) const { return textured_ ? textured_->at(*mf_, at) : *mf_; }
 
 Rgb Conductor::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (!mf_ || wo.z <= 0 || wi.z <= 0) return Rgb(0.0f);
@@ -59,32 +59,9 @@ std::shared_ptr<const Bsdf> read_conductor(Context& ctx, const Props& p) {
   const float ext = read_ior(p, "ext_eta", 1.0f);
   const bool rough = p.type() == "roughconductor";
   if (!rough) ignore_roughness(p);
-  // Textured roughness (roughconductor only, as in Mitsuba): alpha, or alpha_u and alpha_v, given as textures.
-  std::optional<Conductor::RoughnessTextures> textured;
-  auto is_texture = [&](const char* name) {
-    const auto it = p.named.find(name);
-    return it != p.named.end() && (it->second.tag() == "texture" || it->second.tag() == "ref");
-  };
-  if (rough && (is_texture("alpha") || is_texture("alpha_u") || is_texture("alpha_v"))) {
-    if (p.has("alpha") && (p.has("alpha_u") || p.has("alpha_v")))
-      p.node.fail("give either 'alpha' or 'alpha_u' and 'alpha_v', not both");
-    if (p.has("alpha")) {
-      const Texture a = ctx.texture(p, "alpha", Rgb(0.1f));
-      textured = Conductor::RoughnessTextures{a, a};
-    } else {
-      if (!p.has("alpha_u") || !p.has("alpha_v")) p.node.fail("give both 'alpha_u' and 'alpha_v'");
-      textured =
-          Conductor::RoughnessTextures{ctx.texture(p, "alpha_u", Rgb(0.1f)), ctx.texture(p, "alpha_v", Rgb(0.1f))};
-    }
-    if (!(textured->alpha_u.mean().x > 0 && textured->alpha_v.mean().x > 0)) p.node.fail("alpha must be positive");
-  }
+  std::optional<RoughnessTextures> textured;
   std::optional<Microfacet> mf;
-  if (rough) mf = read_microfacet(p, textured.has_value());  // the distribution (and, untextured, the alphas)
-  if (textured) {
-    // The alphas' averages stand for the lobe where one number is needed (the network's roughness input).
-    mf->alpha = textured->alpha_u.mean().x;
-    mf->alpha_v = textured->alpha_v.mean().x;
-  }
+  if (rough) mf = read_rough_microfacet(ctx, p, textured);
   return std::make_shared<Conductor>(c.eta / ext, c.k / ext, ctx.texture(p, "specular_reflectance", Rgb(1.0f)), mf,
                                      textured);
 }

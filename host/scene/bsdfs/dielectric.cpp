@@ -7,19 +7,21 @@
 
 namespace clr::scene {
 Dielectric::Dielectric(Kind kind, float eta, Texture specular_reflectance, Texture specular_transmittance,
-                       std::optional<Microfacet> microfacet)
+                       std::optional<Microfacet> microfacet, std::optional<RoughnessTextures> textured)
     : kind_(kind),
       eta_(eta),
       reflectance_(std::move(specular_reflectance)),
       transmittance_(std::move(specular_transmittance)),
-      mf_(microfacet) {}
+      mf_(microfacet),
+      textured_(std::move(textured)) {}
 
 Rgb Dielectric::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (kind_ != Kind::rough || wo.z == 0 || wi.z == 0) return Rgb(0.0f);
   const Vec3 m = half_vector(wo, wi, eta_);
-  const float d = mf_->D(m);
+  const Microfacet mf = microfacet(at);
+  const float d = mf.D(m);
   if (d == 0.0f) return Rgb(0.0f);
-  const float g = mf_->G(wo, wi, m);
+  const float g = mf.G(wo, wi, m);
   const float co = glm::dot(wo, m), ci = glm::dot(wi, m);
   const float f = fresnel_dielectric(co, eta_).reflectance;
   if (wo.z * wi.z > 0) return reflectance_.eval(at) * (f * d * g / (4.0f * std::fabs(wo.z)));
@@ -29,12 +31,12 @@ Rgb Dielectric::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) con
   return transmittance_.eval(at) * ((1.0f - f) * d * g * std::fabs(ci * co) / (std::fabs(wo.z) * denom * denom));
 }
 
-float Dielectric::pdf(const TexturePoint&, const Vec3& wo, const Vec3& wi) const {
+float Dielectric::pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (kind_ != Kind::rough || wo.z == 0 || wi.z == 0) return 0.0f;
   const Vec3 m = half_vector(wo, wi, eta_);
   const float co = glm::dot(wo, m), ci = glm::dot(wi, m);
   if (co * wo.z <= 0) return 0.0f;  // sample() rejects facets wo sees from behind
-  const float pm = mf_->pdf_m(m);
+  const float pm = microfacet(at).pdf_m(m);
   const float f = fresnel_dielectric(co, eta_).reflectance;
   if (wo.z * wi.z > 0) return pm * f / (4.0f * std::fabs(co));
   if (co * ci >= 0) return 0.0f;
@@ -45,7 +47,7 @@ float Dielectric::pdf(const TexturePoint&, const Vec3& wo, const Vec3& wi) const
 
 std::optional<BsdfSample> Dielectric::sample_rough(const TexturePoint& at, const Vec3& wo, float u_lobe,
                                                    const Vec2& u) const {
-  const Vec3 m = mf_->sample_m(u);
+  const Vec3 m = microfacet(at).sample_m(u);
   const float co = glm::dot(wo, m);
   if (co * wo.z <= 0) return std::nullopt;
   const auto fr = fresnel_dielectric(co, eta_);
@@ -87,8 +89,10 @@ std::shared_ptr<const Bsdf> read_dielectric(Context& ctx, const Props& p) {
                     : type == "thindielectric" ? Dielectric::Kind::thin
                                                : Dielectric::Kind::rough;
   if (kind != Dielectric::Kind::rough) ignore_roughness(p);
-  return std::make_shared<Dielectric>(
-      kind, eta, ctx.texture(p, "specular_reflectance", Rgb(1.0f)), ctx.texture(p, "specular_transmittance", Rgb(1.0f)),
-      kind == Dielectric::Kind::rough ? std::optional(read_microfacet(p)) : std::nullopt);
+  std::optional<RoughnessTextures> textured;
+  std::optional<Microfacet> mf;
+  if (kind == Dielectric::Kind::rough) mf = read_rough_microfacet(ctx, p, textured);
+  return std::make_shared<Dielectric>(kind, eta, ctx.texture(p, "specular_reflectance", Rgb(1.0f)),
+                                      ctx.texture(p, "specular_transmittance", Rgb(1.0f)), mf, std::move(textured));
 }
 }  // namespace clr::scene::loader
