@@ -138,6 +138,7 @@ Command add_reference_command(CLI::App& app) {
         }
         if (opt->render.stoppable) install_stop_handlers();
         reference::RenderStats stats;
+        opt->render.between_passes = [&ranks] { ranks.keep_alive(); };
         opt->render.row_offset = ranks.rank();
         opt->render.row_stride = ranks.size();
         auto img = distributed::gather_interleaved_rows(ranks, reference::render(geometry, opt->render, &stats));

@@ -55,6 +55,10 @@ class Communicator {
   // differs: ranks given other options would train one mixed model, or gather rows of different images.
   void require_same(const std::string& what, std::uint64_t digest) const;
 
+  // Between pieces of a long computation outside any collective (a reference's passes), on the main thread: answers
+  // the roll call of a rank that has waited past the timeout, so that a rank computing is taken for slow, not lost.
+  void keep_alive() const;
+
   // Ends this process's part in the job: 0 finalises MPI; any other code aborts every rank with it (it does not
   // return then) unless every rank fails `together` at the same point (JobInputError): then each finalises and
   // returns the code. A single process just returns the code.

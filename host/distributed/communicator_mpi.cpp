@@ -28,8 +28,11 @@ int count_of(std::size_t n) {
   return int(n);
 }
 
-// The roll call's messages: point to point, so they pass beside any collective in progress.
+// The roll call's messages: point to point, so they pass beside any collective in progress. An answer says where
+// the rank is: waiting in a collective, or computing outside any (Communicator::keep_alive).
 constexpr int kRollCallTag = 0x5e11, kPresentTag = 0x5e12;
+constexpr int kWaiting = 1, kComputing = 2;
+constexpr int kAnswerSeconds = 30;
 
 // $CLRADIOSITY_MPI_TIMEOUT, read by the first collective (the command lines' comparison, before any work). Every
 // rank reads the same value, so a bad one is a JobInputError: the job ends with rank 0's line alone. Below a second
@@ -45,8 +48,8 @@ double collective_timeout() {
   return seconds;
 }
 
-// Answers every roll call that has arrived: this rank is here, waiting in a collective.
-void answer_roll_calls() {
+// Answers every roll call that has arrived: this rank is here, in `state`.
+void answer_roll_calls(int state = kWaiting) {
   for (;;) {
     int pending = 0;
     MPI_Status status;
@@ -54,13 +57,15 @@ void answer_roll_calls() {
     if (!pending) return;
     int token = 0;
     MPI_Recv(&token, 1, MPI_INT, status.MPI_SOURCE, kRollCallTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    MPI_Send(&token, 1, MPI_INT, status.MPI_SOURCE, kPresentTag, MPI_COMM_WORLD);  // 4 bytes: sent eagerly
+    MPI_Send(&state, 1, MPI_INT, status.MPI_SOURCE, kPresentTag, MPI_COMM_WORLD);  // 4 bytes: sent eagerly
   }
 }
 
 // After the timeout: asks every other rank whether it is waiting too, gives them a few seconds to answer, and
 // fails naming the ones that did not (or, when all did, the mismatch of collectives that left them all waiting).
-[[noreturn]] void roll_call(int rank, int size, const char* what, double timeout) {
+// Returns where a rank answered that it is still computing, or where the collective itself (`request`) completed
+// meanwhile (its last rank arrived and answered as waiting): the job is slow, not stuck, and the wait goes on.
+void roll_call(MPI_Request& request, int rank, int size, const char* what, double timeout) {
   int token = 1;
   std::vector<MPI_Request> asked;
   for (int r = 0; r < size; ++r)
@@ -68,8 +73,16 @@ void answer_roll_calls() {
   std::vector<bool> present(std::size_t(size), false);
   present[std::size_t(rank)] = true;
   int answers = 1;
-  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  bool computing = false;
+  // Long enough for a computing rank to finish the piece of work it is in (a reference's pass takes seconds).
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(kAnswerSeconds);
+  const auto completed = [&] {
+    int done = 0;
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    return done != 0;
+  };
   while (answers < size && std::chrono::steady_clock::now() < until) {
+    if (completed()) return;
     answer_roll_calls();
     int arrived = 0;
     MPI_Status status;
@@ -79,9 +92,13 @@ void answer_roll_calls() {
       continue;
     }
     MPI_Recv(&token, 1, MPI_INT, status.MPI_SOURCE, kPresentTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    computing = computing || token == kComputing;
     if (!present[std::size_t(status.MPI_SOURCE)]) ++answers;
     present[std::size_t(status.MPI_SOURCE)] = true;
   }
+  // A rank that computes answers between its pieces of work; the others' answers may still be on their way, and are
+  // read (and dropped) with the next roll call's.
+  if (computing || completed()) return;
   std::string silent;
   for (int r = 0; r < size; ++r)
     if (!present[std::size_t(r)]) silent += (silent.empty() ? "" : ", ") + std::to_string(r);
@@ -93,10 +110,11 @@ void answer_roll_calls() {
                              " although every rank is waiting: the ranks are in different collectives (ending the "
                              "job; CLRADIOSITY_MPI_TIMEOUT sets the limit)");
   throw std::runtime_error(std::string(what) + " did not complete within " + limit + ": rank" +
-                           (silent.find(',') == std::string::npos ? " " : "s ") + silent +
-                           " did not answer within 5 s: stopped, hung or lost — or still computing outside any "
-                           "collective, with more work than the others (ending the job; CLRADIOSITY_MPI_TIMEOUT sets "
-                           "the limit, 0 waits for good)");
+                           (silent.find(',') == std::string::npos ? " " : "s ") + silent + " did not answer within " +
+                           std::to_string(kAnswerSeconds) +
+                           " s: stopped, hung or lost (a rank computing outside any "
+                           "collective answers between its pieces of work; ending the job; CLRADIOSITY_MPI_TIMEOUT "
+                           "sets the limit, 0 waits for good)");
 }
 
 }  // namespace
@@ -119,12 +137,19 @@ void Communicator::wait(void* pending, const char* what) const {
       continued = continue_count();
       start = now;
     }
-    if (timeout > 0 && std::chrono::duration<double>(now - start).count() > timeout)
-      roll_call(rank_, size_, what, timeout);
+    if (timeout > 0 && std::chrono::duration<double>(now - start).count() > timeout) {
+      roll_call(request, rank_, size_, what, timeout);
+      if (MPI_Test(&request, &done, MPI_STATUS_IGNORE) == MPI_SUCCESS && done) return;
+      start = std::chrono::steady_clock::now();  // another rank is computing: a new period of waiting
+    }
     // Spin briefly (a step's collectives usually complete within microseconds), then yield the core to the
     // device's threads.
     if (polls > 2000) std::this_thread::sleep_for(std::chrono::microseconds(polls > 200000 ? 1000 : 50));
   }
+}
+
+void Communicator::keep_alive() const {
+  if (mpi_) answer_roll_calls(kComputing);
 }
 
 Communicator Communicator::make_world() {

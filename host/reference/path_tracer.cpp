@@ -179,6 +179,7 @@ image::Image render(const geometry::Geometry& geometry, const RenderOptions& opt
     });
     non_finite += bad;
     spp += count;
+    if (options.between_passes) options.between_passes();
   }
   if (progress) progress->finish();
 

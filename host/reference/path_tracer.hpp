@@ -5,6 +5,7 @@
 // depends only on the seed, never on the thread count, and the first n samples are the same in a longer render.
 // The image is rendered in passes of a few samples per pixel, summed in double, so that a stop keeps whole passes.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -31,6 +32,8 @@ struct RenderOptions {
   // A stop (common/stop_signal.hpp) ends the render within moments: the pass under way is dropped and the image is
   // the mean of the passes finished, RenderStats::spp of them (0: an image of zeros that measures nothing).
   bool stoppable = false;
+  // Called on the calling thread after each pass (an MPI rank says it is computing, not lost).
+  std::function<void()> between_passes;
 };
 
 struct RenderStats {
