@@ -115,7 +115,7 @@ Command add_reference_command(CLI::App& app) {
         const std::string digest = scene::fingerprint(scene).digest;
         const auto wanted = identity(digest, scene.camera.resized(opt->render.width, opt->render.height), opt->sensor,
                                      max_depth, opt->render.seed);
-        // A stop keeps the finished passes (one sample per pixel each) in one process; ranks would each stop after
+        // A stop keeps the finished passes (a few samples per pixel each) in one process; ranks would each stop after
         // another pass, so under mpirun a stop ends the job as it ends any.
         opt->render.stoppable = !ranks.distributed();
         Earlier earlier;
