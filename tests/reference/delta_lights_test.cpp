@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 
 #include "common/error.hpp"
 #include "geometry/geometry.hpp"
@@ -46,6 +47,82 @@ TEST_F(DeltaLights, PointLightAtTheCentreOfADiffuseSphere) {
   ASSERT_EQ(s.delta_lights.size(), 1u);
   const double want = 0.5 * 3.0 / (scene::kPi * 4.0 * 0.5);
   EXPECT_NEAR(mean_radiance(s, 256), want, 0.02 * want);
+}
+
+// Each emitter kind delivers its analytic power: inside a closed diffuse sphere (radius R, albedo ρ) the light
+// reflected off the walls spreads evenly (any patch sees every other in proportion to its area), so a wall the
+// emitter does not reach directly shows L = ρ²Φ / (4π²R²(1 − ρ)), Φ being the power the emitter sends out. A lamp
+// whose direct light is even (a sphere light at the centre) shows ρΦ / (4π²R²(1 − ρ)) everywhere.
+class EmitterPower : public DeltaLights {
+ protected:
+  static constexpr double kRadius = 2, kAlbedo = 0.5;
+  // The enclosure around `light` (at the origin), seen from (0, 0, eye_z) looking along −z.
+  scene::Scene enclosure(const std::string& light, const std::string& name, int eye_z = 0) const {
+    return scene::load_scene(scene(light + R"(
+      <shape type="sphere"><float name="radius" value="2"/><boolean name="flip_normals" value="true"/>
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>
+      <sensor type="perspective"><float name="fov" value="60"/>
+        <transform name="to_world"><lookat origin="0, 0, )" +
+                                       std::to_string(eye_z) +
+                                       R"(" target="0, 0, -2" up="0, 1, 0"/></transform></sensor>)",
+                                   "3.0.0", name));
+  }
+  static double indirect(double power) {
+    return kAlbedo * kAlbedo * power / (4 * scene::kPi * scene::kPi * kRadius * kRadius * (1 - kAlbedo));
+  }
+};
+
+TEST_F(EmitterPower, SpotSendsOutItsIntegratedCone) {
+  // Mitsuba's spot: I inside the beam (15°), falling linearly in angle to 0 at the cutoff (20°). Φ = 2π I ∫ f(θ) sinθ.
+  const double beam = 15 * scene::kPi / 180, cutoff = 20 * scene::kPi / 180, intensity = 30;
+  double integral = 0;
+  constexpr int kSteps = 100000;
+  for (int i = 0; i < kSteps; ++i) {
+    const double t = (i + 0.5) * cutoff / kSteps, f = t < beam ? 1.0 : (cutoff - t) / (cutoff - beam);
+    integral += f * std::sin(t) * cutoff / kSteps;
+  }
+  const auto s = enclosure(R"(<emitter type="spot"><rgb name="intensity" value="30"/>
+      <transform name="to_world"><lookat origin="0, 0, 0" target="0, 0, 1" up="0, 1, 0"/></transform></emitter>)",
+                           "spot.xml");
+  const double want = indirect(2 * scene::kPi * intensity * integral);
+  const double got = mean_radiance(s, 1024);
+  std::cout << "spot: " << got << ", want " << want << "\n";
+  EXPECT_NEAR(got, want, 0.03 * want);
+}
+
+TEST_F(EmitterPower, ProjectorSendsOutItsImage) {
+  // Its power from the irradiance it lays on a facing plane (π·scale·E / z² over the frustum's section, 60° wide,
+  // as the loaded light's own aspect): integrated over the plane z = 1 numerically.
+  const auto s = enclosure(R"(<emitter type="projector"><rgb name="irradiance" value="0.5"/>
+      <float name="scale" value="4"/><float name="fov" value="60"/>
+      <transform name="to_world"><lookat origin="0, 0, 0" target="0, 0, 1" up="0, 1, 0"/></transform></emitter>)",
+                           "projector.xml");
+  const DeltaLight& l = s.delta_lights.at(0);
+  double power = 0;
+  constexpr int kCells = 1000;
+  constexpr double kHalf = 1.5;  // the plane's half-width at z = 1, wider than the 60° frustum
+  for (int i = 0; i < kCells; ++i)
+    for (int j = 0; j < kCells; ++j) {
+      const Vec3 p(float(-kHalf + (i + 0.5) * 2 * kHalf / kCells), float(-kHalf + (j + 0.5) * 2 * kHalf / kCells), 1);
+      const auto a = l.arrive(p);
+      power += double(a.radiance.x) * -double(a.direction.z) * (2 * kHalf / kCells) * (2 * kHalf / kCells);
+    }
+  EXPECT_GT(power, 0.0);
+  const double want = indirect(power), got = mean_radiance(s, 1024);
+  std::cout << "projector: " << got << ", want " << want << "\n";
+  EXPECT_NEAR(got, want, 0.03 * want);
+}
+
+TEST_F(EmitterPower, SphereLightSendsOutRadianceTimesPiTimesItsArea) {
+  // An area light of radiance Le on a sphere of radius r: Φ = Le·π·4πr², its direct light even on the walls.
+  const auto s = enclosure(R"(<shape type="sphere"><float name="radius" value="0.1"/>
+      <emitter type="area"><rgb name="radiance" value="20"/></emitter></shape>)",
+                           "area.xml", -1);  // looking away from the lamp, from outside it
+  const double power = 20 * scene::kPi * 4 * scene::kPi * 0.01;
+  const double want = indirect(power) / kAlbedo;  // direct and reflected: ρΦ / (4π²R²(1 − ρ))
+  const double got = mean_radiance(s, 256);
+  std::cout << "sphere light: " << got << ", want " << want << "\n";
+  EXPECT_NEAR(got, want, 0.02 * want);
 }
 
 TEST_F(DeltaLights, DirectionalLightOnADiffusePlane) {
