@@ -3,6 +3,7 @@
 // IORs are relative (interior over exterior), reflectances are textures.
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "scene/bsdf.hpp"
@@ -42,6 +43,28 @@ class RoughDiffuse final : public Bsdf {
   bool fast_;
 };
 
+// A scalar BSDF parameter given as a texture: the member of the BSDF's Values it sets at each point, from the
+// texture's first channel clamped into [lo, hi] (as a blend's weight is read).
+template <typename Values>
+struct TexturedValue {
+  float Values::*member;
+  Texture texture;
+  float lo = 0, hi = 1;
+};
+template <typename Values>
+using TexturedValues = std::vector<TexturedValue<Values>>;
+
+// `v` with each textured member replaced by its texture's value at `at`, or by its mean without a point.
+template <typename Values>
+Values values_at(Values v, const TexturedValues<Values>& textured, const TexturePoint* at) {
+  for (const auto& t : textured) v.*t.member = std::clamp((at ? t.texture.eval(*at) : t.texture.mean()).x, t.lo, t.hi);
+  return v;
+}
+template <typename Values>
+bool is_textured(const TexturedValues<Values>& textured, float Values::*member) {
+  return std::any_of(textured.begin(), textured.end(), [&](const auto& t) { return t.member == member; });
+}
+
 // Mitsuba 3's `principled` (Burley's Disney BSDF as Mitsuba defines it): a diffuse lobe with retro-reflection and
 // the fake subsurface of `flatness`, sheen, the main GGX lobe (anisotropic, with a Fresnel term that blends the
 // dielectric's, the metal's Schlick tinted by base_color and the spec_tint share), the GTR1 clearcoat, and with
@@ -51,11 +74,17 @@ class RoughDiffuse final : public Bsdf {
 // integral.
 class Principled final : public Bsdf {
  public:
-  struct Params {
-    Texture base_color{Rgb(0.5f)};
+  // The scalar parameters at one point: each a constant, or a texture's value there (Mitsuba's principled takes a
+  // texture for every one of them; its first channel is read, clamped into the parameter's range).
+  struct Values {
     float roughness = 0.5f, anisotropic = 0, metallic = 0, spec_tint = 0, sheen = 0, sheen_tint = 0, flatness = 0,
           clearcoat = 0, clearcoat_gloss = 0, spec_trans = 0;
-    float eta = 1.5f;  // from `eta`, or from `specular` as Mitsuba maps it
+  };
+  struct Params {
+    Texture base_color{Rgb(0.5f)};
+    Values values;
+    TexturedValues<Values> textured{};  // the values given as textures
+    float eta = 1.5f;                   // from `eta`, or from `specular` as Mitsuba maps it
     // Mitsuba's sampling rates of the lobes: they change the noise, not the expected value.
     float specular_rate = 1, clearcoat_rate = 1, diffuse_rate = 1;
   };
@@ -64,22 +93,34 @@ class Principled final : public Bsdf {
   float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
   std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
   Rgb albedo(const TexturePoint& at) const override { return p_.base_color.eval(at); }
-  float roughness() const override { return spec_.mean_alpha(); }
+  float roughness() const override { return mean_.spec.mean_alpha(); }
   bool has_non_delta() const override { return true; }
-  bool anisotropic() const override { return spec_.anisotropic(); }
-  bool two_sided() const override { return transmission_weight() > 0; }
+  bool anisotropic() const override {
+    return mean_.spec.anisotropic() || is_textured(p_.textured, &Values::anisotropic);
+  }
+  bool two_sided() const override { return mean_.transmission_weight() > 0; }
 
  private:
+  // The parameters at one point, with what follows from them.
+  struct Point {
+    Values v;
+    Microfacet spec;                                                                  // the main lobe's GGX
+    float clearcoat_alpha;                                                            // GTR1's, from clearcoat_gloss
+    float transmission_weight() const { return (1.0f - v.metallic) * v.spec_trans; }  // Mitsuba's `bsdf`
+    float reflection_weight() const { return (1.0f - v.metallic) * (1.0f - v.spec_trans); }  // and `brdf`
+  };
   struct Lobes {
     float specular, clearcoat, diffuse;  // selection probabilities, summing to 1 (or all 0: nothing to sample)
   };
-  Lobes lobes(float cos_o) const;
-  float reflect_probability(float cos_o, float fresnel) const;
-  float transmission_weight() const { return (1.0f - p_.metallic) * p_.spec_trans; }         // Mitsuba's `bsdf`
-  float reflection_weight() const { return (1.0f - p_.metallic) * (1.0f - p_.spec_trans); }  // and `brdf`
+  static Point make_point(const Values& v);
+  Point point(const TexturePoint& at) const {
+    return p_.textured.empty() ? constant_ : make_point(values_at(p_.values, p_.textured, &at));
+  }
+  Lobes lobes(const Point& q, float cos_o) const;
+  float reflect_probability(const Point& q, float cos_o, float fresnel) const;
   Params p_;
-  Microfacet spec_;        // the main lobe's GGX
-  float clearcoat_alpha_;  // GTR1's, from clearcoat_gloss
+  Point constant_;  // where nothing is textured
+  Point mean_;      // at the textures' means: the roughness and sides the network is told of
 };
 
 // Mitsuba 3's `principledthin`: Burley's thin-surface BSDF as Mitsuba defines it, the same from both sides — the
@@ -88,10 +129,15 @@ class Principled final : public Bsdf {
 // the sheet (the reflection mirrored to the other side, roughness scaled by 0.65·eta − 0.35).
 class PrincipledThin final : public Bsdf {
  public:
-  struct Params {
-    Texture base_color{Rgb(0.5f)};
+  // As Principled::Values; Mitsuba's principledthin takes a texture for each, `eta` included.
+  struct Values {
     float roughness = 0.5f, anisotropic = 0, spec_trans = 0, diff_trans = 0, spec_tint = 0, sheen = 0, sheen_tint = 0,
           flatness = 0, eta = 1.5f;
+  };
+  struct Params {
+    Texture base_color{Rgb(0.5f)};
+    Values values;
+    TexturedValues<Values> textured{};
     // Mitsuba's sampling rates of the lobes: they change the noise, not the expected value.
     float specular_reflect_rate = 1, specular_trans_rate = 1, diffuse_reflect_rate = 1, diffuse_trans_rate = 1;
   };
@@ -100,18 +146,28 @@ class PrincipledThin final : public Bsdf {
   float pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const override;
   std::optional<BsdfSample> sample(const TexturePoint& at, const Vec3& wo, float u_lobe, const Vec2& u) const override;
   Rgb albedo(const TexturePoint& at) const override { return p_.base_color.eval(at); }
-  float roughness() const override { return reflect_.mean_alpha(); }
+  float roughness() const override { return mean_.reflect.mean_alpha(); }
   bool has_non_delta() const override { return true; }
   bool two_sided() const override { return true; }
-  bool anisotropic() const override { return reflect_.anisotropic(); }
+  bool anisotropic() const override {
+    return mean_.reflect.anisotropic() || is_textured(p_.textured, &Values::anisotropic);
+  }
 
  private:
+  struct Point {
+    Values v;
+    Microfacet reflect, transmit;  // the transmission's roughness scaled by the IOR (Burley 2015, figure 15)
+  };
   struct Lobes {
     float spec_reflect, spec_trans, diffuse_reflect, diffuse_trans;  // summing to 1 (or all 0)
   };
-  Lobes lobes() const;
+  static Point make_point(const Values& v);
+  Point point(const TexturePoint& at) const {
+    return p_.textured.empty() ? constant_ : make_point(values_at(p_.values, p_.textured, &at));
+  }
+  Lobes lobes(const Point& q) const;
   Params p_;
-  Microfacet reflect_, transmit_;  // the transmission's roughness scaled by the IOR (Burley 2015, figure 15)
+  Point constant_, mean_;
 };
 
 // Mitsuba 0.6's `phong`: Lambertian plus the normalised modified Phong lobe around the mirror direction.

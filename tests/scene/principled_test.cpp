@@ -161,5 +161,78 @@ TEST_F(Principled, RefusesWhatItDoesNotModelByName) {
   EXPECT_EQ(refused(R"(<bsdf type="principled"><float name="spec_trans" value="0"/></bsdf>)"), "accepted");
 }
 
+// Every value Mitsuba 3.9.1 takes as a texture (principled: all but eta and specular; principledthin: all, eta
+// included) is read at the point: on each cell of a checkerboard the BSDF evaluates, weighs and samples exactly as
+// the same BSDF with that cell's value as a constant.
+TEST_F(Principled, EveryTexturedValueIsReadAtThePoint) {
+  struct Value {
+    const char* bsdf;
+    const char* name;
+    float a, b;
+  };
+  const Value values[] = {{"principled", "roughness", 0.2f, 0.7f},      {"principled", "anisotropic", 0.1f, 0.8f},
+                          {"principled", "metallic", 0.0f, 0.9f},       {"principled", "spec_trans", 0.1f, 0.8f},
+                          {"principled", "spec_tint", 0.0f, 1.0f},      {"principled", "sheen", 0.2f, 0.9f},
+                          {"principled", "sheen_tint", 0.0f, 1.0f},     {"principled", "flatness", 0.1f, 0.9f},
+                          {"principled", "clearcoat", 0.3f, 1.0f},      {"principled", "clearcoat_gloss", 0.1f, 0.9f},
+                          {"principledthin", "roughness", 0.2f, 0.7f},  {"principledthin", "anisotropic", 0.1f, 0.8f},
+                          {"principledthin", "spec_trans", 0.2f, 0.7f}, {"principledthin", "diff_trans", 0.3f, 1.6f},
+                          {"principledthin", "spec_tint", 0.0f, 1.0f},  {"principledthin", "sheen", 0.2f, 0.9f},
+                          {"principledthin", "sheen_tint", 0.0f, 1.0f}, {"principledthin", "flatness", 0.1f, 0.9f},
+                          {"principledthin", "eta", 1.2f, 1.7f}};
+  // The other lobes on, so that each value shows: some transmission, a clearcoat, a sheen, a tint.
+  const auto others = [](const Value& v) {
+    std::string xml = R"(<rgb name="base_color" value="0.7, 0.4, 0.2"/>)";
+    for (const auto& [name, value] : std::vector<std::pair<std::string, const char*>>{{"spec_trans", "0.4"},
+                                                                                      {"sheen", "0.5"},
+                                                                                      {"sheen_tint", "0.5"},
+                                                                                      {"spec_tint", "0.5"},
+                                                                                      {"clearcoat", "0.5"},
+                                                                                      {"diff_trans", "0.6"},
+                                                                                      {"anisotropic", "0.3"}})
+      if (name != v.name && (name != "clearcoat" || std::string(v.bsdf) == "principled") &&
+          (name != "diff_trans" || std::string(v.bsdf) == "principledthin"))
+        xml += R"(<float name=")" + name + R"(" value=")" + value + R"("/>)";
+    return xml;
+  };
+  const scene::TexturePoint cells[2] = {scene::TexturePoint(scene::Vec2(0.25f, 0.25f)),
+                                        scene::TexturePoint(scene::Vec2(0.75f, 0.25f))};
+  for (const Value& v : values) {
+    const std::string open = std::string("<bsdf type=\"") + v.bsdf + "\">" + others(v);
+    const auto constant = [&](float x) {
+      return open + R"(<float name=")" + v.name + R"(" value=")" + std::to_string(x) + R"("/></bsdf>)";
+    };
+    const std::string textured = open + R"(<texture name=")" + v.name +
+                                 R"(" type="checkerboard"><float name="color0" value=")" + std::to_string(v.a) +
+                                 R"("/><float name="color1" value=")" + std::to_string(v.b) + R"("/></texture></bsdf>)";
+    const auto s = scene::load_scene(scene("<shape type=\"rectangle\">" + textured + "</shape>" +
+                                           "<shape type=\"rectangle\">" + constant(v.a) + "</shape>" +
+                                           "<shape type=\"rectangle\">" + constant(v.b) + "</shape>"));
+    const scene::Bsdf& t = s.bsdf(s.shapes.at(0));
+    const scene::Bsdf* c[2] = {&s.bsdf(s.shapes.at(1)), &s.bsdf(s.shapes.at(2))};
+    // Which cell holds color0 is the checkerboard's business (texture_test); the two cells must hold a and b.
+    const Vec3 wo = direction(40, 20), wi[] = {direction(55, 200), direction(130, 170), direction(70, 30)};
+    const auto same = [&](const scene::Bsdf& want, const scene::TexturePoint& at) {
+      for (const Vec3& w : wi)
+        if (t.eval(at, wo, w) != want.eval(at, wo, w) || t.pdf(at, wo, w) != want.pdf(at, wo, w)) return false;
+      return true;
+    };
+    const bool first_is_a = same(*c[0], cells[0]);
+    for (int cell = 0; cell < 2; ++cell) {
+      const scene::Bsdf& want = *c[(cell == 0) == first_is_a ? 0 : 1];
+      EXPECT_TRUE(same(want, cells[cell])) << v.bsdf << " " << v.name << " cell " << cell;
+      const auto got = t.sample(cells[cell], wo, 0.37f, {0.31f, 0.62f}),
+                 expected = want.sample(cells[cell], wo, 0.37f, {0.31f, 0.62f});
+      ASSERT_EQ(got.has_value(), expected.has_value()) << v.bsdf << " " << v.name;
+      if (got) {
+        EXPECT_EQ(got->wi, expected->wi) << v.bsdf << " " << v.name;
+      }
+    }
+    EXPECT_NE(c[0]->eval(cells[0], wo, wi[0]) + c[0]->eval(cells[0], wo, wi[1]) + c[0]->eval(cells[0], wo, wi[2]),
+              c[1]->eval(cells[0], wo, wi[0]) + c[1]->eval(cells[0], wo, wi[1]) + c[1]->eval(cells[0], wo, wi[2]))
+        << v.bsdf << " " << v.name << ": the two values must differ somewhere for the test to mean anything";
+  }
+}
+
 }  // namespace
 }  // namespace clr::test

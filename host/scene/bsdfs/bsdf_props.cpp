@@ -57,7 +57,8 @@ Microfacet read_microfacet(const Props& p, bool textured) {
   if (textured) return mf;
   for (const char* name : {"alpha", "alpha_u", "alpha_v"})
     if (const Node* n = p.find(name); n && (n->tag() == "texture" || n->tag() == "ref"))
-      n->fail("textured roughness is not supported by " + p.type() + " (roughconductor and roughdielectric have it)");
+      n->fail("textured roughness is not supported by " + p.type() +
+              ", as in Mitsuba 3, which takes a float there (roughconductor and roughdielectric take textures)");
   if (p.has("alpha_u") || p.has("alpha_v")) {
     if (p.has("alpha")) p.node.fail("give either 'alpha' or 'alpha_u' and 'alpha_v', not both");
     if (!p.has("alpha_u") || !p.has("alpha_v")) p.node.fail("give both 'alpha_u' and 'alpha_v'");

@@ -18,4 +18,25 @@ Microfacet read_rough_microfacet(Context& ctx, const Props& p, std::optional<Rou
 // plugins never read: it stays smooth, with a warning on stderr.
 void ignore_roughness(const Props& p);
 
+// The upper bound of a textured value that has none (roughness, sheen, clearcoat): finite, far beyond use.
+inline constexpr float kNoUpperBound = 1e3f;
+
+// A scalar parameter that Mitsuba takes as a float or as a texture (the principled plugins): a number into
+// `values.*member` (its fallback there), a texture or a <ref> to one appended to `textured`, read within [lo, hi]
+// at each point.
+template <typename Values>
+void read_value(Context& ctx, const Props& p, const char* name, float Values::*member, float lo, float hi,
+                Values& values, TexturedValues<Values>& textured) {
+  const Node* n = p.find(name);
+  if (!n || (n->tag() != "texture" && n->tag() != "ref")) {
+    values.*member = p.number(name, values.*member);
+    return;
+  }
+  Texture t = ctx.texture(p, name, Texture());
+  if (t.is_constant())
+    values.*member = std::clamp(t.mean().x, lo, hi);
+  else
+    textured.push_back({member, std::move(t), lo, hi});
+}
+
 }  // namespace clr::scene::loader

@@ -129,7 +129,8 @@ std::shared_ptr<const Bsdf> read_plastic(Context& ctx, const Props& p) {
   if (!rough) ignore_roughness(p);
   const auto mf = rough ? std::optional(read_microfacet(p)) : std::nullopt;
   // The coating's transmittance is tabulated over cos θ alone, which an anisotropic lobe would make depend on φ.
-  if (mf && mf->anisotropic()) p.node.fail("anisotropic roughness is not supported by roughplastic");
+  if (mf && mf->anisotropic())
+    p.node.fail("anisotropic roughness is not supported by roughplastic, as in Mitsuba 3 (alpha_u and alpha_v differ)");
   return std::make_shared<Plastic>(eta, ctx.texture(p, "diffuse_reflectance", Rgb(0.5f)),
                                    ctx.texture(p, "specular_reflectance", Rgb(1.0f)), p.boolean("nonlinear", false),
                                    mf);

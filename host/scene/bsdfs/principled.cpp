@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "scene/bsdfs.hpp"
+#include "scene/bsdfs/bsdf_props.hpp"
 #include "scene/bsdfs/principled_helpers.hpp"
 #include "scene/fresnel.hpp"
 #include "scene/loader/plugin.hpp"
@@ -38,15 +39,19 @@ float smith_ggx1(const Vec3& v, const Vec3& m) {
 
 Principled::Principled(Params params)
     : p_(std::move(params)),
-      spec_(principled_microfacet(p_.roughness, p_.anisotropic)),
-      clearcoat_alpha_(0.1f + (0.001f - 0.1f) * p_.clearcoat_gloss) {}
+      constant_(make_point(p_.values)),
+      mean_(make_point(values_at(p_.values, p_.textured, nullptr))) {}
 
-Principled::Lobes Principled::lobes(float cos_o) const {
+Principled::Point Principled::make_point(const Values& v) {
+  return {v, principled_microfacet(v.roughness, v.anisotropic), 0.1f + (0.001f - 0.1f) * v.clearcoat_gloss};
+}
+
+Principled::Lobes Principled::lobes(const Point& q, float cos_o) const {
   // Mitsuba's shares: the main lobe (reflection and transmission together) its sampling rate, the clearcoat a
   // quarter of its energy, the diffuse lobe its weight; seen from inside, the main lobe alone.
-  if (cos_o < 0) return transmission_weight() > 0 ? Lobes{1, 0, 0} : Lobes{0, 0, 0};
-  Lobes l{p_.specular_rate, p_.clearcoat != 0 ? 0.25f * p_.clearcoat * p_.clearcoat_rate : 0.0f,
-          reflection_weight() * p_.diffuse_rate};
+  if (cos_o < 0) return q.transmission_weight() > 0 ? Lobes{1, 0, 0} : Lobes{0, 0, 0};
+  Lobes l{p_.specular_rate, q.v.clearcoat != 0 ? 0.25f * q.v.clearcoat * p_.clearcoat_rate : 0.0f,
+          q.reflection_weight() * p_.diffuse_rate};
   const float total = l.specular + l.clearcoat + l.diffuse;
   if (!(total > 0)) return {0, 0, 0};
   return {l.specular / total, l.clearcoat / total, l.diffuse / total};
@@ -54,14 +59,15 @@ Principled::Lobes Principled::lobes(float cos_o) const {
 
 // Within the main lobe, the probability of reflecting off the facet m (Fresnel factor F there): Mitsuba's shares
 // of the main reflection and the transmission, 1 − w·(1 − F) and w·(1 − F) outside, F and 1 − F inside.
-float Principled::reflect_probability(float cos_o, float f) const {
-  return cos_o > 0 ? 1.0f - transmission_weight() * (1.0f - f) : f;
+float Principled::reflect_probability(const Point& q, float cos_o, float f) const {
+  return cos_o > 0 ? 1.0f - q.transmission_weight() * (1.0f - f) : f;
 }
 
 Rgb Principled::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (wo.z == 0 || wi.z == 0) return Rgb(0.0f);
   const bool front = wo.z > 0, reflection = wo.z * wi.z > 0;
-  const float bsdf = transmission_weight(), brdf = reflection_weight();
+  const Point q = point(at);
+  const float bsdf = q.transmission_weight(), brdf = q.reflection_weight();
   if (!front && !(bsdf > 0)) return Rgb(0.0f);  // without transmission, black from below
   const Rgb base = p_.base_color.eval(at);
   const float lum = luminance(base);
@@ -71,16 +77,16 @@ Rgb Principled::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) con
   // The facet must face wo, and wi on the side the event sends it to.
   if (!(cos_oh * side > 0) || !(cos_ih * side * (reflection ? 1.0f : -1.0f) > 0)) return Rgb(0.0f);
   const float f_dielectric = fresnel_dielectric(cos_oh, p_.eta).reflectance;
-  const float metallic = p_.metallic;
-  const float d = spec_.D(h), g = spec_.G(wo, wi, h);
+  const float metallic = q.v.metallic;
+  const float d = q.spec.D(h), g = q.spec.G(wo, wi, h);
   Rgb value(0.0f);
 
   if (reflection && f_dielectric > 0) {
     // Outside: the dielectric's Fresnel blended with the metal's (Schlick from base_color) and the tinted share;
     // inside: the dielectric's alone, for the transmitted share.
-    const Rgb f = front ? (1.0f - metallic) * (1.0f - p_.spec_tint) * Rgb(f_dielectric) +
+    const Rgb f = front ? (1.0f - metallic) * (1.0f - q.v.spec_tint) * Rgb(f_dielectric) +
                               metallic * schlick(base, cos_oh, p_.eta) +
-                              (1.0f - metallic) * p_.spec_tint * schlick(tint * r0_of_eta(p_.eta), cos_oh, p_.eta)
+                              (1.0f - metallic) * q.v.spec_tint * schlick(tint * r0_of_eta(p_.eta), cos_oh, p_.eta)
                         : Rgb(bsdf * f_dielectric);
     value += f * (d * g / (4.0f * std::fabs(wo.z)));
   }
@@ -94,33 +100,35 @@ Rgb Principled::eval(const TexturePoint& at, const Vec3& wo, const Vec3& wi) con
   }
   if (!front) return value;
   const float cos_d = cos_ih;
-  if (p_.clearcoat > 0) {
+  if (q.v.clearcoat > 0) {
     // Mitsuba's clearcoat: 0.25·clearcoat·F·D·G·cos θi, Schlick's F from R0 = 0.04.
     const float f = schlick(Rgb(0.04f), cos_oh, p_.eta).x;
-    value += Rgb(0.25f * p_.clearcoat * f * gtr1_d(h, clearcoat_alpha_) * smith_ggx1(wo, h) * smith_ggx1(wi, h) * wi.z);
+    value +=
+        Rgb(0.25f * q.v.clearcoat * f * gtr1_d(h, q.clearcoat_alpha) * smith_ggx1(wo, h) * smith_ggx1(wi, h) * wi.z);
   }
   if (brdf > 0) {
     const auto lobe =
-        principled_diffuse(base, tint, p_.roughness, p_.flatness, p_.sheen, p_.sheen_tint, wo.z, wi.z, cos_d);
+        principled_diffuse(base, tint, q.v.roughness, q.v.flatness, q.v.sheen, q.v.sheen_tint, wo.z, wi.z, cos_d);
     value += brdf * lobe.diffuse + (1.0f - metallic) * lobe.sheen;
   }
   return value;
 }
 
-float Principled::pdf(const TexturePoint&, const Vec3& wo, const Vec3& wi) const {
+float Principled::pdf(const TexturePoint& at, const Vec3& wo, const Vec3& wi) const {
   if (wo.z == 0 || wi.z == 0) return 0.0f;
-  const Lobes l = lobes(wo.z);
+  const Point q = point(at);
+  const Lobes l = lobes(q, wo.z);
   const bool reflection = wo.z * wi.z > 0;
   const Vec3 h = half_vector(wo, wi, p_.eta);
   const float cos_oh = glm::dot(wo, h), cos_ih = glm::dot(wi, h);
   float p = 0;
   if (reflection && wo.z > 0) {
     p += l.diffuse * cosine_hemisphere_pdf(wi.z);
-    if (l.clearcoat > 0) p += l.clearcoat * gtr1_pdf(h, clearcoat_alpha_) / (4.0f * std::fabs(cos_ih));
+    if (l.clearcoat > 0) p += l.clearcoat * gtr1_pdf(h, q.clearcoat_alpha) / (4.0f * std::fabs(cos_ih));
   }
   if (l.specular > 0 && cos_oh * wo.z > 0) {  // sample() rejects facets wo sees from behind
-    const float pm = l.specular * spec_.pdf_m(h);
-    const float pr = reflect_probability(wo.z, fresnel_dielectric(cos_oh, p_.eta).reflectance);
+    const float pm = l.specular * q.spec.pdf_m(h);
+    const float pr = reflect_probability(q, wo.z, fresnel_dielectric(cos_oh, p_.eta).reflectance);
     if (reflection) {
       p += pm * pr / (4.0f * std::fabs(cos_oh));
     } else if (cos_oh * cos_ih < 0) {
@@ -134,21 +142,22 @@ float Principled::pdf(const TexturePoint&, const Vec3& wo, const Vec3& wi) const
 std::optional<BsdfSample> Principled::sample(const TexturePoint& at, const Vec3& wo, float u_lobe,
                                              const Vec2& u) const {
   if (wo.z == 0) return std::nullopt;
-  const Lobes l = lobes(wo.z);
+  const Point q = point(at);
+  const Lobes l = lobes(q, wo.z);
   Vec3 wi;
   if (u_lobe < l.diffuse) {
     wi = sample_cosine_hemisphere(u);
   } else if (u_lobe < l.diffuse + l.clearcoat) {
-    wi = reflect(wo, gtr1_sample(u, clearcoat_alpha_));
+    wi = reflect(wo, gtr1_sample(u, q.clearcoat_alpha));
     if (wi.z * wo.z <= 0) return std::nullopt;  // a reflection lobe: through the surface it is absorbed
   } else if (l.specular > 0) {
     // The rest of u_lobe, rescaled to [0, 1), chooses between reflecting off and refracting through the facet.
     const float u_event = std::fmin((u_lobe - l.diffuse - l.clearcoat) / l.specular, 0.99999994f);
-    const Vec3 m = spec_.sample_m(u);
+    const Vec3 m = q.spec.sample_m(u);
     const float cos_om = glm::dot(wo, m);
     if (cos_om * wo.z <= 0) return std::nullopt;
     const auto fr = fresnel_dielectric(cos_om, p_.eta);
-    const bool reflection = u_event < reflect_probability(wo.z, fr.reflectance);
+    const bool reflection = u_event < reflect_probability(q, wo.z, fr.reflectance);
     wi = reflection ? reflect(wo, m) : refract(wo, m, cos_om, fr.cos_t, fr.eta_ti);
     if ((wi.z * wo.z > 0) != reflection) return std::nullopt;
   } else {
@@ -162,19 +171,24 @@ std::optional<BsdfSample> Principled::sample(const TexturePoint& at, const Vec3&
 
 namespace clr::scene::loader {
 std::shared_ptr<const Bsdf> read_principled(Context& ctx, const Props& p) {
+  using V = Principled::Values;
   Principled::Params q;
-  q.spec_trans = p.number("spec_trans", 0.0f);
-  const bool transmits = q.spec_trans != 0;
+  auto value = [&](const char* name, float V::*member, float hi = 1.0f) {
+    read_value(ctx, p, name, member, 0.0f, hi, q.values, q.textured);
+  };
+  value("spec_trans", &V::spec_trans);
+  const bool transmits = q.values.spec_trans != 0 || is_textured(q.textured, &V::spec_trans);
   q.base_color = ctx.texture(p, "base_color", Rgb(0.5f));
-  q.roughness = p.number("roughness", 0.5f);
-  q.anisotropic = p.number("anisotropic", 0.0f);
-  q.metallic = p.number("metallic", 0.0f);
-  q.spec_tint = p.number("spec_tint", 0.0f);
-  q.sheen = p.number("sheen", 0.0f);
-  q.sheen_tint = p.number("sheen_tint", 0.0f);
-  q.flatness = p.number("flatness", 0.0f);
-  q.clearcoat = p.number("clearcoat", 0.0f);
-  q.clearcoat_gloss = p.number("clearcoat_gloss", 0.0f);
+  value("roughness", &V::roughness, kNoUpperBound);
+  value("anisotropic", &V::anisotropic);
+  value("metallic", &V::metallic);
+  value("spec_tint", &V::spec_tint);
+  value("sheen", &V::sheen, kNoUpperBound);
+  value("sheen_tint", &V::sheen_tint);
+  value("flatness", &V::flatness);
+  value("clearcoat", &V::clearcoat, kNoUpperBound);
+  value("clearcoat_gloss", &V::clearcoat_gloss);
+  const V& v = q.values;
   q.specular_rate = p.number("main_specular_sampling_rate", 1.0f);
   q.clearcoat_rate = p.number("clearcoat_sampling_rate", 1.0f);
   q.diffuse_rate = p.number("diffuse_reflectance_sampling_rate", 1.0f);
@@ -192,9 +206,9 @@ std::shared_ptr<const Bsdf> read_principled(Context& ctx, const Props& p) {
   }
   for (const float rate : {q.specular_rate, q.clearcoat_rate, q.diffuse_rate})
     if (!(rate >= 0)) p.node.fail("sampling rates must be non-negative");
-  if (!(q.spec_trans >= 0 && q.spec_trans <= 1))
+  if (!(v.spec_trans >= 0 && v.spec_trans <= 1))
     p.expect("spec_trans", {"float"}).fail("spec_trans must lie in [0, 1]");
-  if (!(q.roughness >= 0 && q.anisotropic >= 0 && q.anisotropic <= 1))
+  if (!(v.roughness >= 0 && v.anisotropic >= 0 && v.anisotropic <= 1))
     p.node.fail("roughness must be non-negative and anisotropic within [0, 1]");
   return std::make_shared<Principled>(std::move(q));
 }
