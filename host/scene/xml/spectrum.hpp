@@ -11,8 +11,8 @@
 
 namespace clr::scene {
 
-// CIE 1931 2° colour-matching functions x̄, ȳ, z̄ at wavelength λ (nm), by the multi-lobe Gaussian fit of Wyman,
-// Sloan and Shirley (JCGT 2013), within about 1 % of the tabulated functions' peak values.
+// CIE 1931 2° colour-matching functions x̄, ȳ, z̄ at wavelength λ (nm): the CIE's table every 5 nm, linear between
+// (zero outside 360–830 nm).
 Vec3 cie1931_xyz(float lambda);
 Vec3 xyz_to_linear_srgb(const Vec3& xyz);
 
