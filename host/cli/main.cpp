@@ -203,6 +203,9 @@ int run(int argc, char** argv) {
   } catch (const clr::InputError& e) {
     std::cerr << "clradiosity: error: " << rank_prefix() << clr::cli::bounded_line(e.what()) << "\n";
     return 2;
+  } catch (const clr::distributed::StoppedWhileWaiting& e) {
+    std::cerr << "clradiosity: stopped: " << rank_prefix() << clr::cli::bounded_line(e.what()) << "\n";
+    return 128 + clr::stop_signal();
   } catch (const std::filesystem::filesystem_error& e) {
     if (!clr::cli::path_at_fault(e)) {
       std::cerr << "clradiosity: failed: " << rank_prefix() << clr::cli::bounded_line(e.what()) << "\n";

@@ -7,9 +7,11 @@
 // code, which aborts the whole job (MPI_Abort): the others may be waiting in a collective and would never return.
 // A rank that stops answering (SIGSTOP, a hung node) must not hang the job either: a collective that has not
 // completed after $CLRADIOSITY_MPI_TIMEOUT seconds (default 300; 0: wait forever) takes a roll call of the ranks —
-// every rank answers while it waits in a collective — and fails naming the ranks that did not answer.
+// every rank answers while it waits in a collective — and fails naming the ranks that did not answer. A stop signal
+// that finds a rank waiting ends the job within a second (StoppedWhileWaiting).
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -22,6 +24,15 @@ namespace clr::distributed {
 class JobInputError : public InputError {
  public:
   using InputError::InputError;
+};
+
+// A stop signal (SIGINT, SIGTERM, …) reached this rank while it waited in a collective that the other ranks did not
+// complete within a second: the job ends (exit 128 + the signal) with the work of its last safe point, a training's
+// last checkpoint. Ranks that all take the signal mid-step complete their collectives within that second and stop
+// together at the step's end instead.
+class StoppedWhileWaiting : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 class Communicator {

@@ -5,6 +5,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 #include <thread>
 
@@ -48,6 +49,35 @@ double collective_timeout() {
   return seconds;
 }
 
+// How long a rank that a stop signal reached waits on for the collective it is in: ranks that all took the signal
+// mid-step arrive within it (and stop together at the step's end); a rank still missing after it is not waited for.
+constexpr double kStopGraceSeconds = 1.0;
+
+// Throws StoppedWhileWaiting once a stop signal has been pending for the grace period while this rank waits.
+class StopWatch {
+ public:
+  explicit StopWatch(const char* what) : what_(what) {}
+  void check() {
+    if (!stop_requested()) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (!seen_) {
+      seen_ = true;
+      since_ = now;
+    } else if (std::chrono::duration<double>(now - since_).count() > kStopGraceSeconds) {
+      const char* name = sigabbrev_np(stop_signal());
+      throw StoppedWhileWaiting(std::string("stopped by ") + (name ? std::string("SIG") + name : "a stop request") +
+                                " while waiting in " + what_ +
+                                ": the other ranks did not arrive within 1 s (ending the job; a training keeps its "
+                                "last checkpoint)");
+    }
+  }
+
+ private:
+  const char* what_;
+  bool seen_ = false;
+  std::chrono::steady_clock::time_point since_;
+};
+
 // Answers every roll call that has arrived: this rank is here, in `state`.
 void answer_roll_calls(int state = kWaiting) {
   for (;;) {
@@ -65,7 +95,7 @@ void answer_roll_calls(int state = kWaiting) {
 // fails naming the ones that did not (or, when all did, the mismatch of collectives that left them all waiting).
 // Returns where a rank answered that it is still computing, or where the collective itself (`request`) completed
 // meanwhile (its last rank arrived and answered as waiting): the job is slow, not stuck, and the wait goes on.
-void roll_call(MPI_Request& request, int rank, int size, const char* what, double timeout) {
+void roll_call(MPI_Request& request, int rank, int size, const char* what, double timeout, StopWatch& stop) {
   int token = 1;
   std::vector<MPI_Request> asked;
   for (int r = 0; r < size; ++r)
@@ -83,6 +113,7 @@ void roll_call(MPI_Request& request, int rank, int size, const char* what, doubl
   };
   while (answers < size && std::chrono::steady_clock::now() < until) {
     if (completed()) return;
+    stop.check();
     answer_roll_calls();
     int arrived = 0;
     MPI_Status status;
@@ -127,10 +158,12 @@ void Communicator::wait(void* pending, const char* what) const {
   auto& request = *static_cast<MPI_Request*>(pending);
   auto start = std::chrono::steady_clock::now();
   unsigned continued = continue_count();
+  StopWatch stop(what);
   for (long polls = 0;; ++polls) {
     int done = 0;
     MPI_Test(&request, &done, MPI_STATUS_IGNORE);
     if (done) return;
+    stop.check();
     answer_roll_calls();
     const auto now = std::chrono::steady_clock::now();
     if (continue_count() != continued) {
@@ -138,7 +171,7 @@ void Communicator::wait(void* pending, const char* what) const {
       start = now;
     }
     if (timeout > 0 && std::chrono::duration<double>(now - start).count() > timeout) {
-      roll_call(request, rank_, size_, what, timeout);
+      roll_call(request, rank_, size_, what, timeout, stop);
       start = std::chrono::steady_clock::now();  // slow, not stuck: the next poll sees a completed collective
     }
     // Spin briefly (a step's collectives usually complete within microseconds), then yield the core to the

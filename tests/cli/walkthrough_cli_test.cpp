@@ -8,8 +8,10 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -118,6 +120,75 @@ TEST_F(WalkthroughCli, AVideoWhereFfmpegIsAndAClearLineWhereItIsNot) {
   EXPECT_THAT(r.out, HasSubstr("video: " + video.string()));
   EXPECT_GT(fs::file_size(video), 0u);
   EXPECT_EQ(count(frames, ".png"), 4u) << "the video is made from the PNGs";
+}
+
+// Waits up to `seconds` for `ready`; then SIGINT to `pid`, and how long it took to end (−1: it did not within 10 s,
+// and was killed). `status` receives its wait status.
+double interrupt_when(pid_t pid, const std::function<bool()>& ready, int& status, int seconds = 120) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
+  while (!ready() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(pid, SIGINT);
+  const auto sent = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - sent < std::chrono::seconds(10)) {
+    if (waitpid(pid, &status, WNOHANG) == pid)
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ::kill(pid, SIGKILL);
+  waitpid(pid, &status, 0);
+  return -1;
+}
+
+// Ctrl-C while ffmpeg runs reaches ffmpeg, and one that ignores it is killed a second later: the command ends within
+// moments, with the frames kept and no video. The ffmpeg here is a stand-in on PATH that ignores SIGINT and SIGTERM.
+TEST_F(WalkthroughCli, AStopReachesFfmpegAndEndsTheCommandWithinMoments) {
+  const fs::path bin = dir / "bin", frames = dir / "frames", video = dir / "orbit.mp4", started = dir / "ffmpeg.pid";
+  fs::create_directories(bin);
+  std::ofstream(bin / "ffmpeg") << "#!/bin/sh\ntrap '' INT TERM\necho $$ > " << started.string()
+                                << "\nwhile :; do sleep 0.05; done\n";
+  fs::permissions(bin / "ffmpeg", fs::perms::owner_all);
+  const std::string path = std::getenv("PATH");
+  setenv("PATH", (bin.string() + ":" + path).c_str(), 1);  // the child inherits it
+  const pid_t pid = spawn_cli(
+      words(render("--orbit 3 --width 8 --height 8 --spp 1 --video " + video.string() + " -o " + frames.string())));
+  setenv("PATH", path.c_str(), 1);
+  ASSERT_GE(pid, 0);
+  int status = 0;
+  const double took = interrupt_when(
+      pid, [&] { return fs::exists(started) && fs::file_size(started) > 0; }, status);
+  ASSERT_TRUE(fs::exists(started)) << "the stand-in ffmpeg never ran";
+  ASSERT_GE(took, 0) << "still running 10 s after Ctrl-C";
+  EXPECT_LT(took, 3.0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  EXPECT_EQ(count(frames, ".exr"), 3u) << "the frames are kept";
+  EXPECT_FALSE(fs::exists(video));
+  pid_t child = 0;
+  std::ifstream(started) >> child;
+  ASSERT_GT(child, 0);
+  EXPECT_NE(::kill(child, 0), 0) << "the stand-in ffmpeg outlived the command";
+}
+
+// The break-even check's path tracing (here a reference of millions of samples a pixel) stops within moments too,
+// keeping the frames and writing no figures.
+TEST_F(WalkthroughCli, AStopEndsTheBreakEvenCheckWithinMoments) {
+  const fs::path frames = dir / "frames";
+  const pid_t pid =
+      spawn_cli(words(render("--orbit 2 --width 32 --height 32 --spp 1 --path-tracer-check 1 "
+                             "--check-spp 1048576 -o " +
+                             frames.string())));
+  ASSERT_GE(pid, 0);
+  int status = 0;
+  const double took = interrupt_when(
+      pid, [&] { return fs::exists(frames) && count(frames, ".exr") == 2; }, status);
+  ASSERT_GE(took, 0) << "still running 10 s after Ctrl-C";
+  EXPECT_LT(took, 3.0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  EXPECT_EQ(count(frames, ".exr"), 2u);
+  EXPECT_FALSE(fs::exists(frames / "break_even.json"));
 }
 
 TEST_F(WalkthroughCli, BreakEvenFiguresArePrintedAndWritten) {

@@ -118,6 +118,42 @@ rc=$?
 [ "$(grep -c "clradiosity: error" "$work/render.out")" -eq 1 ] || fail "not one line: $(cat "$work/render.out")"
 grep -q "render runs in one process" "$work/render.out" || fail "no line naming render: $(cat "$work/render.out")"
 
+echo "== a stop signal that finds a rank waiting for another ends the job within seconds, the checkpoint kept"
+# Rank 1 is held (SIGSTOP), so rank 0 waits in a step's collective that cannot complete; SIGTERM to rank 0 must end
+# the job within about a second (not after the 300 s collective timeout), with exit 143 and one line.
+"$mpirun" -n 2 "$cli" train "$scene" --config "$work/small.json" --steps 1000000 -o "$work/sigwait" \
+  >"$work/sigwait.out" 2>&1 &
+job=$!
+for _ in $(seq 600); do
+  [ "$(cat "$work/sigwait/log.csv" 2>/dev/null | grep -c .)" -ge 3 ] && break
+  kill -0 $job 2>/dev/null || fail "the 2-rank training ended early: $(tail -3 "$work/sigwait.out")"
+  sleep 0.1
+done
+held="" waiting=""
+for pid in $(pgrep -P $job); do
+  rank=$(tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | sed -n 's/^OMPI_COMM_WORLD_RANK=//p')
+  [ "$rank" = 1 ] && held=$pid
+  [ "$rank" = 0 ] && waiting=$pid
+done
+[ -n "$held" ] && [ -n "$waiting" ] || { kill $job; fail "ranks 0 and 1 not found among mpirun's children"; }
+kill -STOP "$held"
+sleep 1
+kill -TERM "$waiting"
+start=$SECONDS
+for _ in $(seq 200); do kill -0 $job 2>/dev/null || break; sleep 0.1; done
+if kill -0 $job 2>/dev/null; then
+  kill -CONT "$held"
+  kill -9 $job
+  fail "the job still runs 20 s after SIGTERM reached the waiting rank"
+fi
+wait $job
+rc=$?
+echo "job ended $((SECONDS - start)) s after SIGTERM, exit $rc"
+[ "$rc" -eq 143 ] || fail "exit $rc after SIGTERM, want 143: $(grep clradiosity "$work/sigwait.out" | head -3)"
+grep -q "clradiosity: stopped: rank 0: stopped by SIGTERM while waiting in .*the other ranks did not arrive within 1 s" \
+  "$work/sigwait.out" || fail "no line saying why: $(grep clradiosity "$work/sigwait.out" | head -3)"
+[ -s "$work/sigwait/model.clr" ] || fail "no checkpoint kept"
+
 echo "== a rank that stops answering ends the job after the collective timeout, naming it"
 CLRADIOSITY_MPI_TIMEOUT=5 "$mpirun" -x CLRADIOSITY_MPI_TIMEOUT -n 2 "$cli" train "$scene" --config "$work/small.json" \
   --steps 1000000 -o "$work/stopped" >"$work/stopped.out" 2>&1 &
