@@ -40,14 +40,19 @@ Vec3 SurfacePoint::spawn_origin(const Vec3& dir) const {
   return position + geometric_normal * (glm::dot(geometric_normal, dir) > 0 ? offset : -offset);
 }
 
-SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::uint32_t prim, const Vec2& b) {
-  const scene::Shape& s = scene.shapes[shape];
-  const scene::Mesh& m = s.mesh;
+namespace {
+
+// The geometry of a point before shading: position, normals and uv tangents (lazily, only where a bump map, normal
+// map or anisotropic lobe needs them).
+struct Local {
+  Vec3 n;  // interpolated normal
+  Vec3 dpdu{0.0f}, dpdv{0.0f};
+  bool have_uv = false;
+};
+
+Local on_triangle(const scene::Mesh& m, std::uint32_t prim, const Vec2& b, bool need_tangents, SurfacePoint& p) {
   const glm::uvec3 t = m.triangles[prim];
   const float b0 = 1.0f - b.x - b.y;
-  SurfacePoint p;
-  p.shape = shape;
-  p.prim = prim;
   const Vec3 p0 = m.positions[t.x], p1 = m.positions[t.y], p2 = m.positions[t.z];
   p.position = b0 * p0 + b.x * p1 + b.y * p2;
   const Vec3 largest = glm::max(glm::max(glm::abs(p0), glm::abs(p1)), glm::abs(p2));
@@ -56,53 +61,85 @@ SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::
   const Vec3 ng = glm::cross(e1, e2);
   const float len = glm::length(ng);
   p.geometric_normal = len > 0 ? ng / len : Vec3(0, 0, 1);
-  Vec3 n = p.geometric_normal;
+  Local l{p.geometric_normal};
   if (!m.normals.empty()) {
     const Vec3 ns = b0 * m.normals[t.x] + b.x * m.normals[t.y] + b.y * m.normals[t.z];
-    const float l = glm::length(ns);
-    if (l > 0) n = ns / l;
+    const float nl = glm::length(ns);
+    if (nl > 0) l.n = ns / nl;
   }
   p.at = m.texture_point(prim, b);
-  const scene::Bsdf& bsdf = scene.bsdf(s);
-  const auto* bump = bsdf.bump();
-  const auto* normal_map = bsdf.normal_map();
-  if (!bump && !normal_map && !bsdf.anisotropic()) {
-    p.frame = scene::Frame(n);
-    return p;
-  }
   // dp/du and dp/dv from the triangle's uv parametrisation; without uvs (or with a degenerate map) the frame's own
   // tangent stands in for dp/du and bump mapping is skipped.
-  Vec3 dpdu(0.0f), dpdv(0.0f);
-  bool have_uv = false;
-  if (!m.uvs.empty()) {
+  if (need_tangents && !m.uvs.empty()) {
     const Vec2 d1 = m.uvs[t.y] - m.uvs[t.x], d2 = m.uvs[t.z] - m.uvs[t.x];
     const float det = d1.x * d2.y - d1.y * d2.x;
     if (std::fabs(det) > 1e-12f) {
-      dpdu = (d2.y * e1 - d1.y * e2) / det;
-      dpdv = (d1.x * e2 - d2.x * e1) / det;
-      have_uv = true;
+      l.dpdu = (d2.y * e1 - d1.y * e2) / det;
+      l.dpdv = (d1.x * e2 - d2.x * e1) / det;
+      l.have_uv = true;
     }
   }
-  if (bump && have_uv) n = bump_normal(*bump, n, dpdu, dpdv, p.at);
+  return l;
+}
+
+Local on_sphere(const scene::Sphere& s, const Vec2& uv, bool need_tangents, SurfacePoint& p) {
+  const Vec3 d = s.direction(uv);
+  p.position = s.center + s.radius * d;
+  p.extent = std::max({std::fabs(s.center.x), std::fabs(s.center.y), std::fabs(s.center.z)}) + s.radius;
+  p.geometric_normal = s.flip ? -d : d;
+  p.at = scene::TexturePoint(uv);
+  Local l{p.geometric_normal};
+  if (need_tangents) {
+    s.tangents(uv, l.dpdu, l.dpdv);
+    l.have_uv = true;
+  }
+  return l;
+}
+
+}  // namespace
+
+SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::uint32_t prim, const Vec2& b) {
+  const scene::Shape& s = scene.shapes[shape];
+  const scene::Bsdf& bsdf = scene.bsdf(s);
+  const auto* bump = bsdf.bump();
+  const auto* normal_map = bsdf.normal_map();
+  const bool need_tangents = bump || normal_map || bsdf.anisotropic();
+  SurfacePoint p;
+  p.shape = shape;
+  p.prim = prim;
+  const Local l = s.sphere ? on_sphere(*s.sphere, b, need_tangents, p) : on_triangle(s.mesh, prim, b, need_tangents, p);
+  Vec3 n = l.n;
+  if (!need_tangents) {
+    p.frame = scene::Frame(n);
+    return p;
+  }
+  if (bump && l.have_uv) n = bump_normal(*bump, n, l.dpdu, l.dpdv, p.at);
   // The shading frame Mitsuba uses for normal maps and anisotropic lobes: s = dp/du made orthogonal to n.
   auto tangent_frame = [&](const Vec3& normal) {
-    const Vec3 s_raw = dpdu - normal * glm::dot(normal, dpdu);
-    const float l = glm::length(s_raw);
-    if (!have_uv || !(l > 1e-12f)) return scene::Frame(normal);
+    const Vec3 s_raw = l.dpdu - normal * glm::dot(normal, l.dpdu);
+    const float len = glm::length(s_raw);
+    if (!l.have_uv || !(len > 1e-12f)) return scene::Frame(normal);
     scene::Frame f;
     f.n = normal;
-    f.s = s_raw / l;
+    f.s = s_raw / len;
     f.t = glm::cross(normal, f.s);
     return f;
   };
   if (normal_map) {
     // Mitsuba: n' = the texture's raw RGB mapped from [0, 1] to [-1, 1], in the tangent frame of the shading normal.
     const Vec3 local = 2.0f * normal_map->eval(p.at) - 1.0f;
-    const float l = glm::length(local);
-    if (l > 0) n = glm::normalize(tangent_frame(n).to_world(local / l));
+    const float len = glm::length(local);
+    if (len > 0) n = glm::normalize(tangent_frame(n).to_world(local / len));
   }
   p.frame = normal_map || bsdf.anisotropic() ? tangent_frame(n) : scene::Frame(n);
   return p;
+}
+
+SurfacePoint uniform_surface_point(const scene::Scene& scene, std::uint32_t shape, std::uint32_t prim, const Vec2& u) {
+  if (scene.shapes[shape].sphere) return surface_point(scene, shape, prim, scene::Sphere::uniform_uv(u));
+  // Uniform barycentrics: (1 − √ξ1, √ξ1·ξ2) spreads ξ evenly over the triangle's area.
+  const float su = std::sqrt(u.x);
+  return surface_point(scene, shape, prim, Vec2(su * (1.0f - u.y), su * u.y));
 }
 
 Rgb emitted(const scene::Scene& scene, const SurfacePoint& p, const Vec3& wo) {

@@ -14,12 +14,12 @@ using scene::Vec3;
 
 struct SurfacePoint {
   Vec3 position;
-  Vec3 geometric_normal;   // unit, from the triangle's winding
+  Vec3 geometric_normal;   // unit, from the triangle's winding (a sphere's: its normal)
   scene::Frame frame;      // shading frame: z = interpolated (and possibly bump-mapped) normal
   scene::TexturePoint at;  // uv, and the triangle and barycentrics for mesh attributes
   std::uint32_t shape = 0, prim = 0;
-  // The largest |coordinate| of the triangle's vertices: the position and Embree's hits carry float error relative
-  // to it. 0 where unknown (a point built by hand).
+  // The largest |coordinate| of the triangle's vertices (of the sphere's box): the position and Embree's hits carry
+  // float error relative to it. 0 where unknown (a point built by hand).
   float extent = 0;
 
   // A ray origin leaving the surface towards `dir`, pushed off the triangle's plane on the side `dir` points to,
@@ -30,8 +30,11 @@ struct SurfacePoint {
   scene::BsdfPoint bsdf(const scene::Scene& s) const { return {&s.bsdf(s.shapes[shape]), frame, at}; }
 };
 
-// Interpolates triangle `prim` of shape `shape` at barycentrics (b1, b2) (weights of vertices 1 and 2).
-SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::uint32_t prim, const Vec2& barycentric);
+// The point `b` of primitive `prim` of shape `shape` (scene::Shape::texture_point: a triangle's barycentrics, weights
+// of vertices 1 and 2, or a sphere's uv).
+SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::uint32_t prim, const Vec2& b);
+// The point of primitive `prim` that two uniforms `u` name, uniformly distributed over its area.
+SurfacePoint uniform_surface_point(const scene::Scene& scene, std::uint32_t shape, std::uint32_t prim, const Vec2& u);
 
 // Radiance the surface emits towards `wo` (world, pointing away from the surface): the area emitter's radiance on
 // the side its shading normal faces, zero elsewhere and for non-emitters.

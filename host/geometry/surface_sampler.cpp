@@ -14,11 +14,8 @@ SurfaceSampler::SurfaceSampler(const scene::Scene& scene) : scene_(&scene) {
   for (std::size_t s = 0; s < scene.shapes.size(); ++s) {
     const auto& shape = scene.shapes[s];
     if (!scene.bsdf(shape).has_non_delta()) continue;
-    const auto& m = shape.mesh;
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-      const glm::uvec3 tri = m.triangles[t];
-      const double a = 0.5 * double(glm::length(glm::cross(m.positions[tri.y] - m.positions[tri.x],
-                                                           m.positions[tri.z] - m.positions[tri.x])));
+    for (std::size_t t = 0; t < shape.primitive_count(); ++t) {
+      const double a = shape.primitive_area(std::uint32_t(t));
       if (!(a > 0)) continue;
       sum += a;
       shape_.push_back(std::uint32_t(s));
@@ -37,9 +34,8 @@ void SurfaceSampler::sample(std::uint64_t seed, std::span<SurfaceSample> out, st
       const double target = rng.next_double() * total_area_;
       const auto k = std::size_t(std::min<std::ptrdiff_t>(
           std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin(), std::ptrdiff_t(cdf_.size()) - 1));
-      // Uniform barycentrics: (1 − √ξ1, √ξ1·ξ2) spreads ξ evenly over the triangle's area.
-      const float su = std::sqrt(rng.next_float()), v = rng.next_float();
-      const SurfacePoint p = surface_point(*scene_, shape_[k], prim_[k], Vec2(su * (1.0f - v), su * v));
+      const float u0 = rng.next_float();
+      const SurfacePoint p = uniform_surface_point(*scene_, shape_[k], prim_[k], Vec2(u0, rng.next_float()));
       const auto& shape = scene_->shapes[p.shape];
       const scene::Bsdf& bsdf = scene_->bsdf(shape);
       out[i] = {p, bsdf.albedo(p.at), bsdf.roughness(), std::uint32_t(shape.material)};

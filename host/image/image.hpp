@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace clr::image {
@@ -42,6 +43,10 @@ Image read_ldr(const std::filesystem::path& path, bool srgb_to_linear);
 // (.hdr, else OpenEXR).
 Image read_hdr(const std::filesystem::path& path);
 Image read_float_image(const std::filesystem::path& path);
+// The width and height an image file's header announces (OpenEXR by a .exr name, else what stb reads), without
+// decoding its pixels: what reading it will allocate, for a budget to weigh first. InputError naming the file when
+// it is missing or its header unreadable.
+std::pair<int, int> image_file_size(const std::filesystem::path& path);
 
 // Averages factor×factor blocks; width and height must be multiples of factor.
 Image box_downsample(const Image& img, int factor);

@@ -233,6 +233,28 @@ Image read_float_image(const fs::path& path) {
   return ext == ".hdr" ? read_hdr(path) : read_exr(path);
 }
 
+std::pair<int, int> image_file_size(const fs::path& path) {
+  if (!fs::is_regular_file(path)) throw InputError("image file not found or not a regular file: " + path.string());
+  auto ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".exr") {
+    try {
+      const Imath::Box2i dw = Imf::InputFile(path.c_str()).header().dataWindow();
+      check_image_size(1LL + dw.max.x - dw.min.x, 1LL + dw.max.y - dw.min.y, "EXR " + path.string());
+      return {dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1};
+    } catch (const InputError&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw InputError("cannot read EXR " + path.string() + ": " + e.what());
+    }
+  }
+  int w = 0, h = 0, n = 0;
+  if (!stbi_info(path.c_str(), &w, &h, &n))
+    throw InputError("cannot read image " + path.string() + ": " + stbi_failure_reason());
+  check_image_size(w, h, "image " + path.string());
+  return {w, h};
+}
+
 Image read_ldr(const fs::path& path, bool srgb) {
   if (!fs::exists(path)) throw InputError("image file not found: " + path.string());
   if (!fs::is_regular_file(path)) throw InputError("image file is not a regular file: " + path.string());

@@ -26,11 +26,7 @@ float brightest_emission(const scene::Scene& scene) {
     // about ρ/π times the irradiance there. Taken at a typical distance, half the scene's bounding-box diagonal (a
     // unit has to be right within a few decades, not exactly).
     scene::Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-    for (const auto& shape : scene.shapes)
-      for (const auto& p : shape.mesh.positions) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-      }
+    for (const auto& shape : scene.shapes) shape.extend_bounds(lo, hi);
     const float d = 0.5f * glm::length(hi - lo);
     for (const auto& light : scene.delta_lights) {
       float irradiance = scene::max_component(light.intensity);

@@ -17,11 +17,7 @@ SceneInputs scene_inputs(const geometry::Geometry& geometry, const geometry::Sur
     albedos.insert({s.albedo.x, s.albedo.y, s.albedo.z});
     roughness.insert(s.roughness);
   }
-  for (const auto& shape : geometry.scene().shapes)
-    for (const auto& v : shape.mesh.positions) {
-      lo = glm::min(lo, v);
-      hi = glm::max(hi, v);
-    }
+  for (const auto& shape : geometry.scene().shapes) shape.extend_bounds(lo, hi);
   const glm::vec3 pad = 1e-3f * (hi - lo) + 1e-6f;
   lo -= pad;
   hi += pad;

@@ -12,11 +12,8 @@ LightSampler::LightSampler(const scene::Scene& scene)
     const auto& shape = scene.shapes[s];
     if (!shape.is_emitter()) continue;
     first_[s] = cdf_.size();
-    const auto& m = shape.mesh;
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-      const glm::uvec3 tri = m.triangles[t];
-      const float a = 0.5f * glm::length(glm::cross(m.positions[tri.y] - m.positions[tri.x],
-                                                    m.positions[tri.z] - m.positions[tri.x]));
+    for (std::size_t t = 0; t < shape.primitive_count(); ++t) {
+      const auto a = float(shape.primitive_area(std::uint32_t(t)));
       total_ += double(a) * double(scene::luminance(shape.radiance));
       shape_.push_back(std::uint32_t(s));
       prim_.push_back(std::uint32_t(t));
@@ -71,8 +68,7 @@ LightSample LightSampler::sample(const Vec3& from, Pcg32& rng) const {
   const double target = double(rng.next_float()) * total_;
   const auto k = std::size_t(std::min<std::ptrdiff_t>(std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin(),
                                                       std::ptrdiff_t(cdf_.size()) - 1));
-  const float su = std::sqrt(u.x);
-  const auto p = geometry::surface_point(*scene_, shape_[k], prim_[k], scene::Vec2(su * (1 - u.y), su * u.y));
+  const auto p = geometry::uniform_surface_point(*scene_, shape_[k], prim_[k], u);
   const Vec3 d = p.position - from;
   const float dist2 = glm::dot(d, d);
   if (!(dist2 > 0)) return ls;

@@ -1,8 +1,8 @@
 #pragma once
-// Next-event estimation's choice of a light: the emitting triangles (one among them with probability proportional
-// to its power, area × luminance of radiance), the environment and each delta light (point, spot, directional,
-// projector) take equal shares. Also gives the density of hitting a light by chance, for multiple importance
-// sampling.
+// Next-event estimation's choice of a light: the emitting triangles and spheres (one among them with probability
+// proportional to its power, area × luminance of radiance, and a point on it uniformly by area), the environment and
+// each delta light (point, spot, directional, projector) take equal shares. Also gives the density of hitting a light
+// by chance, for multiple importance sampling.
 #include <vector>
 
 #include "common/pcg32.hpp"
@@ -30,7 +30,7 @@ class LightSampler {
   explicit LightSampler(const scene::Scene& scene);
   bool empty() const { return cdf_.empty() && !scene_->environment && scene_->delta_lights.empty(); }
   LightSample sample(const Vec3& from, Pcg32& rng) const;
-  // Solid-angle density of sample() producing the triangle point `p` seen from `from` (the hit distance t).
+  // Solid-angle density of sample() producing the point `p` of an emitting triangle or sphere, seen from `from`.
   float pdf_triangle(const geometry::SurfacePoint& p, const Vec3& from) const;
   float pdf_environment(const Vec3& dir) const;
 
@@ -39,8 +39,8 @@ class LightSampler {
   float environment_probability_ = 0, area_probability_ = 0, delta_probability_ = 0;  // the last per light
   std::vector<std::uint32_t> shape_, prim_;
   std::vector<double> cdf_;         // cumulative power
-  std::vector<float> area_;         // per light triangle
-  std::vector<std::size_t> first_;  // per shape: index of its first light triangle (or npos)
+  std::vector<float> area_;         // per light primitive (triangle or sphere)
+  std::vector<std::size_t> first_;  // per shape: index of its first light primitive (or npos)
   double total_ = 0;
 };
 

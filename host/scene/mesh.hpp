@@ -1,8 +1,9 @@
 #pragma once
-// Triangle meshes: what every Mitsuba shape becomes (analytic shapes are tessellated finely enough that their
-// area and normals match to well under the renderer's noise; see mesh_primitives.cpp).
+// Triangle meshes: what every Mitsuba shape but an exact sphere (scene/sphere.hpp) becomes. The other analytic shapes
+// are tessellated finely enough that their area and normals match to well under the renderer's noise (primitives.cpp).
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,7 @@ struct Mesh {
   // InputError (prefixed with `what`) for check_structure's faults, non-finite geometry or no triangles. Attribute
   // values are checked only where a texture reads them (the loader's keep_attributes).
   void validate(const std::string& what) const;
+  double triangle_area(std::size_t i) const;
   double area() const;
 };
 
@@ -58,7 +60,10 @@ struct Mesh {
 // does, so images appear upright. Only PLY carries attributes (Mitsuba 3 reads none from obj or serialized files).
 Mesh load_obj(const std::filesystem::path& path);
 Mesh load_ply(const std::filesystem::path& path);
-Mesh load_serialized(const std::filesystem::path& path, int shape_index);
+// `before_decoding`, where given, is told the bytes the shape's counts will cost before its data is inflated (a
+// memory budget may refuse them by throwing).
+Mesh load_serialized(const std::filesystem::path& path, int shape_index,
+                     const std::function<void(std::uint64_t)>& before_decoding = {});
 
 // Mitsuba's analytic shapes in their local frames: rectangle [-1,1]² in z = 0 facing +z; cube [-1,1]³ facing out;
 // disk of radius 1 in z = 0 facing +z; unit sphere at the origin facing out.

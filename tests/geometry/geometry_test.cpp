@@ -1,4 +1,5 @@
-// Embree tracing (single and batched, closest and any hit, alpha masks) and area-uniform surface sampling.
+// Embree tracing (single and batched, closest and any hit, alpha masks, exact spheres) and area-uniform surface
+// sampling.
 #include "geometry/geometry.hpp"
 
 #include <gtest/gtest.h>
@@ -8,12 +9,14 @@
 #include "common/pcg32.hpp"
 #include "geometry/surface_sampler.hpp"
 #include "image/image.hpp"
+#include "reference/light_sampler.hpp"
 #include "scene/scene_files.hpp"
 
 namespace clr::test {
 namespace {
 
 using geometry::Ray;
+using scene::Vec2;
 using scene::Vec3;
 
 class Geometry : public SceneFiles {};
@@ -142,6 +145,156 @@ TEST_F(Geometry, SurfaceSamplesAreUniformByAreaOverNonDeltaSurfaces) {
   const auto again = sampler.sample(42, 100), other = sampler.sample(43, 100);
   for (std::size_t i = 0; i < 100; ++i) EXPECT_EQ(again[i].point.position, samples[i].point.position);
   EXPECT_NE(other[0].point.position, samples[0].point.position);
+}
+
+// Spheres are intersected exactly (an Embree user geometry in double precision), at any scale and offset, from
+// outside and from inside, with Mitsuba's uv.
+TEST_F(Geometry, SpheresAreHitExactlyAtEveryScale) {
+  for (const double scale : {1e-4, 1.0, 1e4}) {
+    const Vec3 c = Vec3(1, 2, 3) * float(scale) + Vec3(float(37 * scale), 0, 0);
+    const float r = 0.5f * float(scale);
+    const auto s =
+        scene::load_scene(scene(R"(<shape type="sphere"><point name="center" x=")" + std::to_string(c.x) + R"(" y=")" +
+                                std::to_string(c.y) + R"(" z=")" + std::to_string(c.z) +
+                                R"("/><float name="radius" value=")" + std::to_string(r) + R"("/></shape>)"));
+    ASSERT_TRUE(s.shapes[0].sphere) << "a sphere is kept exact";
+    ASSERT_TRUE(s.shapes[0].mesh.triangles.empty());
+    const Vec3 centre = s.shapes[0].sphere->center;
+    const geometry::Geometry g(s);
+    Pcg32 rng(3, 9);
+    for (int i = 0; i < 2000; ++i) {
+      // From a point 3 radii out towards a random point on the sphere's disk: a hit at the analytic distance.
+      const Vec3 from = centre + 3.0f * r * scene::sample_uniform_sphere({rng.next_float(), rng.next_float()});
+      const Vec3 aim = centre + 0.99f * r * scene::sample_uniform_sphere({rng.next_float(), rng.next_float()});
+      const Vec3 dir = glm::normalize(aim - from);
+      const glm::dvec3 oc = glm::dvec3(from) - glm::dvec3(centre), d(dir);
+      const double b = glm::dot(oc, d), disc = b * b - (glm::dot(oc, oc) - double(r) * r);
+      const double want = -b - std::sqrt(disc);
+      const auto hit = g.intersect({from, 0.0f, dir});
+      ASSERT_TRUE(hit.valid()) << scale << " " << i;
+      ASSERT_NEAR(hit.t, want, 1e-5 * r) << scale << " " << i;
+      const auto p = g.surface(hit);
+      ASSERT_NEAR(glm::length(p.position - centre), r, 2e-6f * (r + glm::length(centre)));
+      ASSERT_NEAR(glm::length(p.geometric_normal - (p.position - centre) / r), 0.0f, 1e-4f);
+      ASSERT_NEAR(glm::dot(p.frame.n, p.geometric_normal), 1.0f, 1e-6f);
+      // Leaving the surface: outwards nothing is hit, inwards the far side at the chord's length.
+      const Vec3 out = glm::normalize(p.geometric_normal + 0.999f * glm::cross(p.geometric_normal, dir));
+      ASSERT_FALSE(g.intersect({p.spawn_origin(out), 0.0f, out}).valid()) << scale << " " << i;
+      const auto far = g.intersect({p.spawn_origin(dir), 0.0f, dir});
+      ASSERT_TRUE(far.valid()) << scale << " " << i;
+      // Off by the spawn offset, which is relative to the coordinates' magnitude (the centre lies 37 radii out).
+      ASSERT_NEAR(far.t, -2.0 * glm::dot(glm::dvec3(p.position - centre), d), 1e-3 * p.extent) << scale << " " << i;
+    }
+  }
+}
+
+TEST_F(Geometry, SpheresKeepMitsubasUvAndNormalsUnderEveryPlacement) {
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="sphere"><float name="radius" value="2"/></shape>
+    <shape type="sphere"><transform name="to_world"><rotate x="1" angle="90"/><scale value="3"/>
+      <translate x="10"/></transform><boolean name="flip_normals" value="true"/></shape>
+    <shape type="sphere"><transform name="to_world"><scale x="1" y="1" z="1.5"/></transform></shape>
+    <shape type="shapegroup" id="g"><shape type="sphere"/></shape>
+    <shape type="instance"><ref id="g"/><transform name="to_world"><scale value="0.5"/><translate y="-10"/>
+      </transform></shape>
+    <shape type="instance"><ref id="g"/><transform name="to_world"><scale x="2"/><translate y="10"/>
+      </transform></shape>)"));
+  ASSERT_EQ(s.shapes.size(), 5u);
+  const geometry::Geometry g(s);
+  // u = φ/2π from +x towards +y, v = θ/π from +z: +x is (0, ½), +y (¼, ½), the top (·, 0).
+  auto at = [&](const Vec3& from, const Vec3& dir) { return g.surface(g.intersect({from, 0.0f, dir})); };
+  const auto px = at(Vec3(5, 0, 0), Vec3(-1, 0, 0)), py = at(Vec3(0, 5, 0), Vec3(0, -1, 0)),
+             pz = at(Vec3(0, 0, 5), Vec3(0, 0, -1));
+  EXPECT_NEAR(px.at.uv.x, 0.0f, 1e-6f);
+  EXPECT_NEAR(px.at.uv.y, 0.5f, 1e-6f);
+  EXPECT_NEAR(py.at.uv.x, 0.25f, 1e-6f);
+  EXPECT_NEAR(py.at.uv.y, 0.5f, 1e-6f);
+  EXPECT_NEAR(pz.at.uv.y, 0.0f, 1e-6f);
+  EXPECT_NEAR(px.position.x, 2.0f, 1e-6f);
+  // Rotated 90° about x: its local +z points along world −y, so the point nearest −y is its pole; flipped normals
+  // face the centre.
+  ASSERT_TRUE(s.shapes[1].sphere);
+  EXPECT_NEAR(s.shapes[1].area(), 4 * M_PI * 9, 1e-3);
+  const auto pole = at(Vec3(10, -5, 0), Vec3(0, 1, 0));
+  EXPECT_EQ(pole.shape, 1u);
+  EXPECT_NEAR(pole.at.uv.y, 0.0f, 1e-6f);
+  EXPECT_NEAR(pole.position.y, -3.0f, 1e-5f);
+  EXPECT_NEAR(pole.geometric_normal.y, 1.0f, 1e-6f);
+  // A stretched sphere is an ellipsoid: tessellated.
+  EXPECT_FALSE(s.shapes[2].sphere);
+  EXPECT_GT(s.shapes[2].mesh.triangles.size(), 1000u);
+  // Instances: a uniform scale keeps the sphere exact, a stretch tessellates that copy only.
+  ASSERT_TRUE(s.shapes[3].sphere);
+  EXPECT_NEAR(s.shapes[3].sphere->radius, 0.5f, 1e-7f);
+  EXPECT_NEAR(at(Vec3(0, -10, 5), Vec3(0, 0, -1)).position.z, 0.5f, 1e-6f);
+  EXPECT_FALSE(s.shapes[4].sphere);
+  EXPECT_NEAR(at(Vec3(5, 10, 0), Vec3(-1, 0, 0)).position.x, 2.0f, 1e-4f);
+  // The tangents a bump map and an anisotropic lobe are oriented by: ∂p/∂u along +φ, ∂p/∂v along +θ.
+  Vec3 dpdu, dpdv;
+  s.shapes[0].sphere->tangents(Vec2(0.25f, 0.5f), dpdu, dpdv);
+  EXPECT_NEAR(glm::length(dpdu - Vec3(-4 * M_PI, 0, 0)), 0.0f, 1e-4f);
+  EXPECT_NEAR(glm::length(dpdv - Vec3(0, 0, -2 * M_PI)), 0.0f, 1e-4f);
+}
+
+TEST_F(Geometry, TenThousandSpheresCostNoTessellation) {
+  // 10 000 small spheres on a grid: each is one primitive (a tessellated one was 262 144 triangles, 100 of them
+  // ~4 GB); every ray down a column hits the sphere it aims at.
+  std::string shapes;
+  for (int i = 0; i < 100; ++i)
+    for (int j = 0; j < 100; ++j)
+      shapes += R"(<shape type="sphere"><point name="center" x=")" + std::to_string(i) + R"(" y=")" +
+                std::to_string(j) + R"(" z="0"/><float name="radius" value="0.25"/></shape>)";
+  const auto s = scene::load_scene(scene(shapes));
+  ASSERT_EQ(s.shapes.size(), 10000u);
+  std::size_t triangles = 0;
+  for (const auto& shape : s.shapes) triangles += shape.mesh.triangles.size();
+  EXPECT_EQ(triangles, 0u);
+  const geometry::Geometry g(s);
+  Pcg32 rng(5, 1);
+  for (int k = 0; k < 5000; ++k) {
+    const int i = int(rng.next_float() * 100), j = int(rng.next_float() * 100);
+    const float dx = 0.2f * (rng.next_float() - 0.5f), dy = 0.2f * (rng.next_float() - 0.5f);
+    const auto hit = g.intersect({Vec3(float(i) + dx, float(j) + dy, 5.0f), 0.0f, Vec3(0, 0, -1)});
+    ASSERT_EQ(hit.shape, std::uint32_t(100 * i + j));
+    ASSERT_NEAR(hit.t, 5.0f - std::sqrt(0.0625f - dx * dx - dy * dy), 1e-5f);
+  }
+}
+
+TEST_F(Geometry, SphereSamplesAreUniformByAreaAndTheLightDensityMatches) {
+  const auto s = scene::load_scene(scene(R"(<shape type="sphere"><transform name="to_world"><rotate y="1" angle="30"/>
+      <scale value="0.5"/><translate x="2"/></transform>
+      <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>)"));
+  const geometry::SurfaceSampler sampler(s);
+  EXPECT_NEAR(sampler.total_area(), M_PI, 1e-5);
+  // χ² over 8 × 8 cells equal in area (cos θ and φ about the sphere's centre, in world axes): 63 degrees of
+  // freedom, whose 99.9 % quantile is 103.4.
+  constexpr int kCells = 8;
+  constexpr std::size_t kN = 128000;
+  std::vector<double> count(kCells * kCells, 0.0);
+  for (const auto& smp : sampler.sample(11, kN)) {
+    const Vec3 d = (smp.point.position - Vec3(2, 0, 0)) / 0.5f;
+    ASSERT_NEAR(glm::length(d), 1.0f, 1e-5f);
+    const int a = std::min(kCells - 1, int((d.z + 1) / 2 * kCells));
+    const int b = std::min(kCells - 1, int((std::atan2(d.y, d.x) / (2 * M_PI) + 0.5) * kCells));
+    count[std::size_t(a * kCells + b)] += 1;
+  }
+  double chi2 = 0;
+  const double expected = double(kN) / (kCells * kCells);
+  for (double c : count) chi2 += (c - expected) * (c - expected) / expected;
+  EXPECT_LT(chi2, 103.4);
+  // Next-event estimation's density of a point on the sphere equals the one it reports when it draws that point.
+  const reference::LightSampler lights(s);
+  const geometry::Geometry g(s);
+  Pcg32 rng(2, 2);
+  const Vec3 from(0, 0.3f, 0.1f);
+  for (int i = 0; i < 200; ++i) {
+    const auto ls = lights.sample(from, rng);
+    if (!(ls.pdf > 0)) continue;
+    const auto hit = g.intersect({from, 0.0f, ls.direction});
+    ASSERT_TRUE(hit.valid());
+    if (std::fabs(hit.t - ls.distance) > 1e-4f) continue;  // drawn on the far side: hidden, no density by hitting
+    EXPECT_NEAR(lights.pdf_triangle(g.surface(hit), from), ls.pdf, 1e-3f * ls.pdf);
+  }
 }
 
 }  // namespace

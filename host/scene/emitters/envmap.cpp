@@ -1,6 +1,7 @@
 // Mitsuba's `envmap` emitter: a lat-long image around the scene.
 #include "common/error.hpp"
 #include "scene/loader/plugin.hpp"
+#include "scene/memory_budget.hpp"
 
 namespace clr::scene::loader {
 EmitterPlugin read_envmap(Context& ctx, const Props& p) {
@@ -9,6 +10,7 @@ EmitterPlugin read_envmap(Context& ctx, const Props& p) {
   const float scale = p.number("scale", 1.0f);
   require_non_negative(p, "scale", Rgb(scale));
   try {
+    ctx.charge_image(file, kBytesPerEnvironmentTexel);
     e.environment = std::make_unique<Environment>(Environment::envmap(file, scale, p.transform("to_world")));
   } catch (const InputError& err) {
     p.node.fail(err.what());

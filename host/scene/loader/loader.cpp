@@ -14,6 +14,7 @@
 #include "image/image.hpp"
 #include "scene/bsdfs.hpp"
 #include "scene/loader/plugin.hpp"
+#include "scene/memory_budget.hpp"
 #include "scene/scene.hpp"
 
 namespace clr::scene {
@@ -143,8 +144,21 @@ class Loader final : public loader::Context {
   std::shared_ptr<const Bitmap> bitmap(const std::filesystem::path& file, bool raw, float gamma,
                                        Bitmap::Storage storage) override {
     auto& cached = bitmaps_[{file.string(), raw, gamma, storage}];
-    if (!cached) cached = Bitmap::load(file, raw, gamma, storage);
+    if (!cached) {
+      charge_image(file, kBytesPerTexel);
+      cached = Bitmap::load(file, raw, gamma, storage);
+    }
     return cached;
+  }
+
+  void require_geometry(std::uint64_t bytes, const std::string& what) override {
+    budget_.require(bytes, MemoryBudget::Part::geometry, what);
+  }
+
+  void charge_image(const std::filesystem::path& file, std::uint64_t bytes_per_pixel) override {
+    const auto [w, h] = image::image_file_size(file);
+    budget_.charge(std::uint64_t(w) * std::uint64_t(h) * bytes_per_pixel, MemoryBudget::Part::images,
+                   "image " + file.string());
   }
 
  private:
@@ -378,8 +392,26 @@ class Loader final : public loader::Context {
     if (type == "shapegroup") return shapegroup(n);
     if (type == "instance") return instance(n);
     scene_.shapes.push_back(build_shape(n));
-    count_triangles(n, scene_.shapes.back().mesh.triangles.size());
+    count_triangles(n, scene_.shapes.back().primitive_count());
+    charge(n, scene_.shapes.back());
   }
+
+  // Bytes a built shape holds, with Embree's copy and BVH (scene/memory_budget.hpp).
+  static std::uint64_t bytes_of(const Shape& s) {
+    if (s.sphere) return kBytesPerSphere;
+    std::uint64_t bytes = s.mesh.triangles.size() * kBytesPerTriangle + s.mesh.positions.size() * kBytesPerVertex;
+    for (const auto& a : s.mesh.attributes) bytes += a.values.size() * sizeof(float);
+    return bytes;
+  }
+
+  void charge(const Node& n, std::uint64_t bytes, const std::string& what) {
+    try {
+      budget_.charge(bytes, MemoryBudget::Part::geometry, what);
+    } catch (const InputError& e) {
+      n.fail(e.what());
+    }
+  }
+  void charge(const Node& n, const Shape& s) { charge(n, bytes_of(s), "shape '" + terminal_safe(s.id) + "'"); }
 
   void count_triangles(const Node& n, std::size_t added) {
     triangles_ += added;
@@ -400,7 +432,8 @@ class Loader final : public loader::Context {
       if (type == "shapegroup" || type == "instance") o.fail("shapegroups do not nest (as in Mitsuba)");
       group.push_back(build_shape(o));
       if (group.back().is_emitter()) o.fail("a shape in a shapegroup cannot emit (as in Mitsuba)");
-      count_triangles(o, group.back().mesh.triangles.size());
+      count_triangles(o, group.back().primitive_count());
+      charge(o, group.back());
     }
     p.check_all_used();
     if (group.empty()) n.fail("the shapegroup holds no shape");
@@ -430,15 +463,41 @@ class Loader final : public loader::Context {
     p.check_all_used();
     const std::string id = n.attr_or("id", "instance " + std::to_string(scene_.shapes.size()));
     std::size_t copies = 0;
-    for (const Shape& member : group->second) copies += member.mesh.triangles.size();
+    std::uint64_t bytes = 0;
+    for (const Shape& member : group->second) {
+      copies += member.primitive_count();
+      bytes += bytes_of(member);
+    }
     count_triangles(n, copies);
+    charge(n, bytes, "instance '" + terminal_safe(id) + "'");
     for (const Shape& member : group->second) {
       Shape s = member;
       s.id = id + "/" + member.id;
-      s.mesh.transform(to_world);
-      s.mesh.validate(n.where());
+      place(n, s, to_world);
+      // A sphere this copy stretched into an ellipsoid, and so tessellated.
+      count_triangles(n, s.primitive_count() - member.primitive_count());
+      charge(n, bytes_of(s) - bytes_of(member), "shape '" + terminal_safe(s.id) + "'");
       scene_.shapes.push_back(std::move(s));
     }
+  }
+
+  // Moves shape `s` by `to_world` and validates it. A sphere stays exact where to_world keeps it a sphere; one
+  // stretched into an ellipsoid is tessellated (Mitsuba refuses it; a tessellation shows what was asked for).
+  void place(const Node& n, Shape& s, const glm::mat4& to_world) {
+    if (s.sphere) {
+      if (const auto moved = Sphere::from(to_world * s.sphere->to_world(), s.sphere->flip)) {
+        s.sphere = moved;
+        if (glm::any(glm::greaterThan(glm::abs(moved->center) + moved->radius, Vec3(kMaxCoordinate))))
+          n.fail("the sphere reaches beyond ±1e12, farther than single-precision ray tracing can resolve");
+        return;
+      }
+      s.mesh = make_sphere();
+      s.mesh.transform(s.sphere->to_world());
+      if (s.sphere->flip) s.mesh.flip();
+      s.sphere.reset();
+    }
+    s.mesh.transform(to_world);
+    s.mesh.validate(n.where());
   }
 
   static void check_to_world(const Node& n, const glm::mat4& to_world) {
@@ -466,13 +525,17 @@ class Loader final : public loader::Context {
       if (std::string(e.what()).starts_with(n.where())) throw;
       n.fail(e.what());  // a mesh file's own message, prefixed with the element that named it
     }
-    s.mesh = std::move(made.mesh);
     const glm::mat4 to_world = p.transform("to_world") * made.to_world;
-    if (p.boolean("face_normals", false)) s.mesh.normals.clear();
     check_to_world(n, to_world);
-    s.mesh.transform(to_world);
-    if (p.boolean("flip_normals", false)) s.mesh.flip();
-    s.mesh.validate(n.where());
+    const bool flip = p.boolean("flip_normals", false);
+    if (made.sphere) {
+      s.sphere = Sphere{.flip = flip};
+    } else {
+      s.mesh = std::move(made.mesh);
+      if (p.boolean("face_normals", false)) s.mesh.normals.clear();
+      if (flip) s.mesh.flip();
+    }
+    place(n, s, to_world);
 
     std::shared_ptr<const Bsdf> b;
     auto set_bsdf = [&](const Node& o, std::shared_ptr<const Bsdf> nested) {
@@ -646,6 +709,7 @@ class Loader final : public loader::Context {
   std::vector<AttributeUses> attribute_scopes_;  // the materials and emitters being built, innermost last
   int depth_ = 0;                                // the loader's recursion (Deeper)
   std::size_t triangles_ = 0;                    // in the scene's shapes, groups and instances so far
+  MemoryBudget budget_;                          // what they and the images cost
   // How deep a BSDF's nesting goes and how many BSDFs one evaluation visits (itself included).
   struct BsdfExtent {
     int depth = 1;
@@ -674,7 +738,7 @@ void require_emitter(const Scene& scene, const std::filesystem::path& path) {
   if (scene.environment || !scene.delta_lights.empty()) return;
   // A shape whose triangles are all degenerate is a valid part of a scene (it is never hit), but no light.
   for (const auto& s : scene.shapes)
-    if (s.is_emitter() && s.mesh.area() > 0) return;
+    if (s.is_emitter() && s.area() > 0) return;
   throw InputError(path.string() +
                    ": the scene has no emitter (an area emitter on a shape of non-zero area, an environment or "
                    "a point, spot, directional or projector light): every radiance would be zero");

@@ -64,10 +64,12 @@ struct EmitterPlugin {
   std::optional<DeltaLight> delta;
 };
 
-// A shape plugin's mesh in its local frame; `to_world` may be amended (a sphere's radius and centre).
+// A shape plugin's mesh in its local frame, or the unit sphere (`sphere`, no mesh); `to_world` may be amended (a
+// sphere's radius and centre).
 struct ShapePlugin {
   Mesh mesh;
   glm::mat4 to_world{1.0f};
+  bool sphere = false;
 };
 
 // The loader's services to plugin readers.
@@ -82,8 +84,14 @@ class Context {
   virtual Texture texture(const Node& texture_or_ref) = 0;
   // The BSDFs nested in (or referenced by) a plugin, in document order.
   virtual std::vector<std::shared_ptr<const Bsdf>> nested_bsdfs(const Props& p) = 0;
+  // An image texture, loaded once for each way of reading it, its pixels charged to the memory budget first.
   virtual std::shared_ptr<const Bitmap> bitmap(const std::filesystem::path& file, bool raw, float gamma,
                                                Bitmap::Storage storage) = 0;
+  // The scene's memory budget (scene/memory_budget.hpp). require_geometry: InputError naming `what` unless `bytes` of
+  // geometry more would fit, for a reader to ask before it decodes a mesh (the loader charges each shape once it is
+  // built). charge_image: an image file's pixels at `bytes_per_pixel`, sized from its header before it is decoded.
+  virtual void require_geometry(std::uint64_t bytes, const std::string& what) = 0;
+  virtual void charge_image(const std::filesystem::path& file, std::uint64_t bytes_per_pixel) = 0;
 };
 
 std::shared_ptr<const Bsdf> single_nested_bsdf(Context& ctx, const Props& p);

@@ -156,11 +156,7 @@ std::vector<Camera> read_camera_path_checked(const std::filesystem::path& file, 
 
 Vec3 geometry_centre(const std::vector<Shape>& shapes) {
   Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const auto& shape : shapes)
-    for (const auto& v : shape.mesh.positions) {
-      lo = glm::min(lo, v);
-      hi = glm::max(hi, v);
-    }
+  for (const auto& shape : shapes) shape.extend_bounds(lo, hi);
   return lo.x <= hi.x ? 0.5f * (lo + hi) : Vec3(0.0f);
 }
 

@@ -175,10 +175,14 @@ void Mesh::validate(const std::string& what) const {
     if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) throw InputError(what + ": a texture coordinate is not finite");
 }
 
+double Mesh::triangle_area(std::size_t i) const {
+  const glm::uvec3 t = triangles[i];
+  return 0.5 * double(glm::length(glm::cross(positions[t.y] - positions[t.x], positions[t.z] - positions[t.x])));
+}
+
 double Mesh::area() const {
   double a = 0;
-  for (const auto& t : triangles)
-    a += 0.5 * double(glm::length(glm::cross(positions[t.y] - positions[t.x], positions[t.z] - positions[t.x])));
+  for (std::size_t i = 0; i < triangles.size(); ++i) a += triangle_area(i);
   return a;
 }
 

@@ -6,7 +6,8 @@
 namespace clr::scene {
 namespace {
 // Tessellation of the curved shapes: the sphere's relative area error is ~(π/kRings)²/6 ≈ 4e-5 and its normals
-// are the exact ones, far below what a reference render at hundreds of spp can resolve.
+// are the exact ones, far below what a reference render at hundreds of spp can resolve. Spheres are exact
+// (scene/sphere.hpp); this mesh stands in only for one that a to_world stretches into an ellipsoid.
 constexpr int kRings = 256, kSegments = 512;
 }  // namespace
 
@@ -96,7 +97,9 @@ ShapePlugin read_sphere(Context&, const Props& p) {
   const float radius = p.number("radius", 1.0f);
   if (!(radius > 0)) p.expect("radius", {"float"}).fail("radius must be positive");
   const Vec3 center = p.vector3("center", Vec3(0.0f));
-  return {make_sphere(), glm::mat4(glm::vec4(radius, 0, 0, 0), glm::vec4(0, radius, 0, 0), glm::vec4(0, 0, radius, 0),
-                                   glm::vec4(center, 1))};
+  return {Mesh{},
+          glm::mat4(glm::vec4(radius, 0, 0, 0), glm::vec4(0, radius, 0, 0), glm::vec4(0, 0, radius, 0),
+                    glm::vec4(center, 1)),
+          true};
 }
 }  // namespace clr::scene::loader

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "scene/memory_budget.hpp"
 #include "scene/mesh.hpp"
 #include "scene/shapes/file_mesh.hpp"
 
@@ -70,7 +71,8 @@ std::vector<unsigned char> inflate_at(const std::string& file, std::size_t offse
 
 }  // namespace
 
-Mesh load_serialized(const std::filesystem::path& path, int shape_index) {
+Mesh load_serialized(const std::filesystem::path& path, int shape_index,
+                     const std::function<void(std::uint64_t)>& before_decoding) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": mesh file not found");
   std::ostringstream buf;
@@ -116,6 +118,14 @@ Mesh load_serialized(const std::filesystem::path& path, int shape_index) {
   const std::uint64_t real = dbl ? 8 : 4, per_vertex = real * (3 + (flags & kNormals ? 3 : 0) + (flags & kUvs ? 2 : 0) +
                                                                (flags & kColors ? 3 : 0));
   const std::uint64_t data = nv * per_vertex + nt * 3 * (wide ? 8 : 4);
+  // Counts that the compressed bytes could not hold even at zlib's best ratio (1032:1) are refused as the corrupt
+  // file they are; the rest is weighed by what it will cost (the inflated data and the mesh made of it) before it
+  // is inflated.
+  const std::uint64_t compressed = file.size() - (offset + 4);
+  if (data > compressed * 1032)
+    throw InputError(what + ": shape claims " + std::to_string(nv) + " vertices and " + std::to_string(nt) +
+                     " triangles, more than its " + std::to_string(compressed) + " bytes of compressed data can hold");
+  if (before_decoding) before_decoding(data + nt * kBytesPerTriangle + nv * kBytesPerVertex);
   Inflated s(
       head.size() >= header_size + data ? std::move(head) : inflate_at(file, offset + 4, what, header_size + data),
       what);
@@ -161,6 +171,8 @@ Mesh load_serialized(const std::filesystem::path& path, int shape_index) {
 namespace clr::scene::loader {
 ShapePlugin read_serialized(Context& ctx, const Props& p) {
   const auto file = ctx.file(p, "filename", "mesh file");
-  return file_mesh(p, load_serialized(file, p.integer("shape_index", 0)));
+  return file_mesh(p, load_serialized(file, p.integer("shape_index", 0), [&](std::uint64_t bytes) {
+                     ctx.require_geometry(bytes, "mesh file " + file.string());
+                   }));
 }
 }  // namespace clr::scene::loader
