@@ -30,6 +30,7 @@ Environment Environment::envmap(const std::filesystem::path& path, float scale, 
   e.height_ = img.height;
   e.to_world_ = glm::mat3(to_world);
   e.to_local_ = glm::inverse(e.to_world_);
+  e.jacobian_scale_ = std::fabs(glm::determinant(e.to_local_));
   e.pixels_.resize(std::size_t(img.width) * std::size_t(img.height));
   e.weights_.resize(e.pixels_.size());
   double total = 0;
@@ -82,11 +83,18 @@ float Environment::pixel_pdf(int x, int y) const {
   return weights_[std::size_t(y) * std::size_t(width_) + std::size_t(x)];  // mean-normalised: a density in uv
 }
 
+Rgb Environment::lookup(const Vec2& uv) const {
+  const float x = uv.x * float(width_) - 0.5f, y = uv.y * float(height_) - 0.5f;
+  const float x_floor = std::floor(x), y_floor = std::floor(y), ax = x - x_floor, ay = y - y_floor;
+  const int x0 = ((int(x_floor) % width_) + width_) % width_, x1 = (x0 + 1) % width_;
+  const int y0 = std::clamp(int(y_floor), 0, height_ - 1), y1 = std::clamp(int(y_floor) + 1, 0, height_ - 1);
+  const auto at = [&](int px, int py) { return pixels_[std::size_t(py) * std::size_t(width_) + std::size_t(px)]; };
+  return (1.0f - ay) * ((1.0f - ax) * at(x0, y0) + ax * at(x1, y0)) + ay * ((1.0f - ax) * at(x0, y1) + ax * at(x1, y1));
+}
+
 Rgb Environment::eval(const Vec3& dir) const {
   if (width_ == 0) return constant_;
-  const Vec2 uv = to_uv(glm::normalize(to_local_ * dir));
-  const int x = std::min(int(uv.x * float(width_)), width_ - 1), y = std::min(int(uv.y * float(height_)), height_ - 1);
-  return pixels_[std::size_t(y) * std::size_t(width_) + std::size_t(x)];
+  return lookup(to_uv(glm::normalize(to_local_ * dir)));
 }
 
 Environment::Sample Environment::sample(const Vec2& u) const {
@@ -100,19 +108,27 @@ Environment::Sample Environment::sample(const Vec2& u) const {
   const float phi = 2.0f * kPi * su, theta = kPi * sv;
   const float sin_theta = std::sin(theta);
   const Vec3 local(std::sin(phi) * sin_theta, std::cos(theta), -std::cos(phi) * sin_theta);
-  const Vec3 d = glm::normalize(to_world_ * local);
-  const float pdf = sin_theta > 0 ? pixel_pdf(x, y) / (2.0f * kPi * kPi * sin_theta) : 0.0f;
-  return {d, pixels_[std::size_t(y) * std::size_t(width_) + std::size_t(x)], pdf};
+  const Vec3 stretched = to_world_ * local;
+  const float length = glm::length(stretched);
+  const Vec3 d = stretched / length;
+  // |dω_local/dω_world| = |det to_local| · |to_world · local|³ (1 for a rotation).
+  const float pdf = sin_theta > 0 ? pixel_pdf(x, y) / (2.0f * kPi * kPi * sin_theta) * jacobian_scale_ *
+                                        length * length * length
+                                  : 0.0f;
+  return {d, lookup(Vec2(su, sv)), pdf};
 }
 
 float Environment::pdf(const Vec3& dir) const {
   if (width_ == 0) return kUniformSpherePdf;
-  const Vec3 local = glm::normalize(to_local_ * dir);
+  const Vec3 stretched = to_local_ * glm::normalize(dir);
+  const float length = glm::length(stretched);
+  const Vec3 local = stretched / length;
   const Vec2 uv = to_uv(local);
   const float sin_theta = std::sqrt(std::fmax(0.0f, 1.0f - local.y * local.y));
   if (!(sin_theta > 0)) return 0.0f;
   const int x = std::min(int(uv.x * float(width_)), width_ - 1), y = std::min(int(uv.y * float(height_)), height_ - 1);
-  return pixel_pdf(x, y) / (2.0f * kPi * kPi * sin_theta);
+  // |dω_local/dω_world| = |det to_local| / |to_local · dir|³ (1 for a rotation).
+  return pixel_pdf(x, y) / (2.0f * kPi * kPi * sin_theta) * jacobian_scale_ / (length * length * length);
 }
 
 }  // namespace clr::scene
