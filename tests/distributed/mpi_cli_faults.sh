@@ -10,6 +10,26 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 two() { "$mpirun" -n 2 "$cli" "$@"; }
+# The pid of rank $1 among the children of mpirun's process $job.
+rank_pid() {
+  for pid in $(pgrep -P $job); do
+    tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=$1" && { echo "$pid"; return; }
+  done
+}
+# Starts a 2-rank training into $work/$1 in the background (its output in $work/$1.out; mpirun options after the
+# name), sets $job and waits until its log holds $2 lines.
+train_two() {
+  local name=$1 rows=$2
+  shift 2
+  "$mpirun" "$@" -n 2 "$cli" train "$scene" --config "$work/small.json" --steps 1000000 -o "$work/$name" \
+    >"$work/$name.out" 2>&1 &
+  job=$!
+  for _ in $(seq 600); do
+    [ "$(cat "$work/$name/log.csv" 2>/dev/null | grep -c .)" -ge "$rows" ] && return
+    kill -0 $job 2>/dev/null || fail "the 2-rank training ended early: $(tail -3 "$work/$name.out")"
+    sleep 0.1
+  done
+}
 
 echo "== distributed reference equals the single-process image"
 "$cli" reference "$scene" --spp 4 --width 40 --height 31 --seed 5 -o "$work/one.exr" >/dev/null 2>&1 ||
@@ -30,9 +50,7 @@ CLRADIOSITY_MPI_TIMEOUT=1 "$mpirun" -x CLRADIOSITY_MPI_TIMEOUT -n 2 "$cli" refer
 job=$!
 slow=""
 for _ in $(seq 100); do
-  for pid in $(pgrep -P $job); do
-    tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=1" && slow=$pid
-  done
+  slow=$(rank_pid 1)
   [ -n "$slow" ] && break
   sleep 0.05
 done
@@ -58,18 +76,9 @@ cat >"$work/small.json" <<'EOF'
  "network": {"width": 64, "hidden_layers": 2,
              "encoder": {"grid": {"levels": 6, "log2_table": 14, "base_resolution": 4}}}}
 EOF
-"$mpirun" -n 2 "$cli" train "$scene" --config "$work/small.json" --steps 1000000 -o "$work/run" >"$work/run.out" 2>&1 &
-job=$!
-for _ in $(seq 600); do
-  [ "$(cat "$work/run/log.csv" 2>/dev/null | grep -c .)" -ge 4 ] && break
-  kill -0 $job 2>/dev/null || fail "the 2-rank training ended early: $(tail -3 "$work/run.out")"
-  sleep 0.1
-done
+train_two run 4
 [ -f "$work/run/model.clr" ] || fail "no checkpoint after 60 s: $(tail -3 "$work/run.out")"
-victim=""
-for pid in $(pgrep -P $job); do
-  tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=1" && victim=$pid
-done
+victim=$(rank_pid 1)
 [ -n "$victim" ] || { kill $job; fail "rank 1 not found among mpirun's children"; }
 kill -9 "$victim"
 start=$SECONDS
@@ -121,20 +130,8 @@ grep -q "render runs in one process" "$work/render.out" || fail "no line naming 
 echo "== a stop signal that finds a rank waiting for another ends the job within seconds, the checkpoint kept"
 # Rank 1 is held (SIGSTOP), so rank 0 waits in a step's collective that cannot complete; SIGTERM to rank 0 must end
 # the job within about a second (not after the 300 s collective timeout), with exit 143 and one line.
-"$mpirun" -n 2 "$cli" train "$scene" --config "$work/small.json" --steps 1000000 -o "$work/sigwait" \
-  >"$work/sigwait.out" 2>&1 &
-job=$!
-for _ in $(seq 600); do
-  [ "$(cat "$work/sigwait/log.csv" 2>/dev/null | grep -c .)" -ge 3 ] && break
-  kill -0 $job 2>/dev/null || fail "the 2-rank training ended early: $(tail -3 "$work/sigwait.out")"
-  sleep 0.1
-done
-held="" waiting=""
-for pid in $(pgrep -P $job); do
-  rank=$(tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | sed -n 's/^OMPI_COMM_WORLD_RANK=//p')
-  [ "$rank" = 1 ] && held=$pid
-  [ "$rank" = 0 ] && waiting=$pid
-done
+train_two sigwait 3
+held=$(rank_pid 1) waiting=$(rank_pid 0)
 [ -n "$held" ] && [ -n "$waiting" ] || { kill $job; fail "ranks 0 and 1 not found among mpirun's children"; }
 kill -STOP "$held"
 sleep 1
@@ -155,18 +152,8 @@ grep -q "clradiosity: stopped: rank 0: stopped by SIGTERM while waiting in .*the
 [ -s "$work/sigwait/model.clr" ] || fail "no checkpoint kept"
 
 echo "== a rank that stops answering ends the job after the collective timeout, naming it"
-CLRADIOSITY_MPI_TIMEOUT=5 "$mpirun" -x CLRADIOSITY_MPI_TIMEOUT -n 2 "$cli" train "$scene" --config "$work/small.json" \
-  --steps 1000000 -o "$work/stopped" >"$work/stopped.out" 2>&1 &
-job=$!
-for _ in $(seq 600); do
-  [ "$(cat "$work/stopped/log.csv" 2>/dev/null | grep -c .)" -ge 3 ] && break
-  kill -0 $job 2>/dev/null || fail "the 2-rank training ended early: $(tail -3 "$work/stopped.out")"
-  sleep 0.1
-done
-victim=""
-for pid in $(pgrep -P $job); do
-  tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=1" && victim=$pid
-done
+CLRADIOSITY_MPI_TIMEOUT=5 train_two stopped 3 -x CLRADIOSITY_MPI_TIMEOUT
+victim=$(rank_pid 1)
 [ -n "$victim" ] || { kill $job; fail "rank 1 not found among mpirun's children"; }
 kill -STOP "$victim"
 start=$SECONDS
