@@ -27,7 +27,7 @@ class Environment {
 
  private:
   Vec2 to_uv(const Vec3& local) const;
-  Rgb lookup(const Vec2& uv) const;  // bilinear, wrapping around in u, clamped at the poles
+  Rgb lookup(const Vec2& uv) const;     // bilinear, wrapping around in u, clamped at the poles
   float pixel_pdf(int x, int y) const;  // density in uv of the pixel (x, y)
 
   Rgb constant_{0.0f};

@@ -112,9 +112,9 @@ Environment::Sample Environment::sample(const Vec2& u) const {
   const float length = glm::length(stretched);
   const Vec3 d = stretched / length;
   // |dω_local/dω_world| = |det to_local| · |to_world · local|³ (1 for a rotation).
-  const float pdf = sin_theta > 0 ? pixel_pdf(x, y) / (2.0f * kPi * kPi * sin_theta) * jacobian_scale_ *
-                                        length * length * length
-                                  : 0.0f;
+  const float pdf = sin_theta > 0
+                        ? pixel_pdf(x, y) / (2.0f * kPi * kPi * sin_theta) * jacobian_scale_ * length * length * length
+                        : 0.0f;
   return {d, lookup(Vec2(su, sv)), pdf};
 }
 
