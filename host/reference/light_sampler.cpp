@@ -5,6 +5,21 @@
 #include <limits>
 
 namespace clr::reference {
+namespace {
+
+// 1 − cos θmax of the cone in which a sphere light that emits outwards is seen from `from`, or 0 where it is drawn by
+// area instead (`from` on or inside it, or a sphere that emits inwards). Within the cone every direction meets its
+// near, lit side: drawing directions there, as Mitsuba does, wastes none on the far side as area sampling does.
+double cone_width(const scene::Shape& shape, const Vec3& from) {
+  if (!shape.sphere || shape.sphere->flip) return 0;
+  const glm::dvec3 d = glm::dvec3(shape.sphere->center) - glm::dvec3(from);
+  const double d2 = glm::dot(d, d), r2 = double(shape.sphere->radius) * shape.sphere->radius;
+  if (!(d2 > r2 * (1 + 1e-4))) return 0;
+  const double sin2 = r2 / d2;
+  return sin2 / (1 + std::sqrt(1 - sin2));  // without the cancellation of 1 − √(1 − sin²)
+}
+
+}  // namespace
 
 LightSampler::LightSampler(const scene::Scene& scene)
     : scene_(&scene), first_(scene.shapes.size(), std::numeric_limits<std::size_t>::max()) {
@@ -68,6 +83,32 @@ LightSample LightSampler::sample(const Vec3& from, Pcg32& rng) const {
   const double target = double(rng.next_float()) * total_;
   const auto k = std::size_t(std::min<std::ptrdiff_t>(std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin(),
                                                       std::ptrdiff_t(cdf_.size()) - 1));
+  const float select = float((cdf_[k] - (k ? cdf_[k - 1] : 0.0)) / total_) * area_probability_;
+  const scene::Shape& shape = scene_->shapes[shape_[k]];
+  if (const double width = cone_width(shape, from); width > 0) {
+    // A direction uniform in the cone, then the point where it meets the sphere (the near root, in double).
+    const scene::Sphere& s = *shape.sphere;
+    const glm::dvec3 axis = glm::normalize(glm::dvec3(s.center) - glm::dvec3(from));
+    const double one_minus_cos = double(u.x) * width, cos_t = 1 - one_minus_cos;
+    const double sin_t = std::sqrt(std::fmax(0.0, one_minus_cos * (2 - one_minus_cos))), phi = 2 * M_PI * double(u.y);
+    const scene::Frame frame{Vec3(axis)};
+    const glm::dvec3 dir = glm::normalize(
+        glm::dvec3(frame.to_world(Vec3(float(sin_t * std::cos(phi)), float(sin_t * std::sin(phi)), float(cos_t)))));
+    const glm::dvec3 oc = glm::dvec3(from) - glm::dvec3(s.center);
+    const double b = glm::dot(oc, dir), c = glm::dot(oc, oc) - double(s.radius) * s.radius;
+    const double t = -b - std::sqrt(std::fmax(0.0, b * b - c));
+    const glm::dvec3 hit = oc + t * dir;
+    const auto p = geometry::surface_point(*scene_, shape_[k], prim_[k], s.uv(Vec3(hit)));
+    const Vec3 d = p.position - from;
+    ls.distance = glm::length(d);
+    if (!(ls.distance > 0)) return ls;
+    ls.direction = d / ls.distance;
+    ls.point = p.position;
+    ls.light_normal = p.geometric_normal;
+    ls.radiance = geometry::emitted(*scene_, p, -ls.direction);
+    ls.pdf = float(double(select) / (2 * M_PI * width));
+    return ls;
+  }
   const auto p = geometry::uniform_surface_point(*scene_, shape_[k], prim_[k], u);
   const Vec3 d = p.position - from;
   const float dist2 = glm::dot(d, d);
@@ -79,7 +120,6 @@ LightSample LightSampler::sample(const Vec3& from, Pcg32& rng) const {
   ls.radiance = geometry::emitted(*scene_, p, -ls.direction);
   const float cos_light = std::fabs(glm::dot(p.geometric_normal, ls.direction));
   if (!(cos_light > 0)) return ls;
-  const float select = float((cdf_[k] - (k ? cdf_[k - 1] : 0.0)) / total_) * area_probability_;
   ls.pdf = select / area_[k] * dist2 / cos_light;
   return ls;
 }
@@ -88,11 +128,13 @@ float LightSampler::pdf_triangle(const geometry::SurfacePoint& p, const Vec3& fr
   const std::size_t first = first_[p.shape];
   if (first == std::numeric_limits<std::size_t>::max() || cdf_.empty()) return 0.0f;
   const std::size_t k = first + p.prim;
+  const float select = float((cdf_[k] - (k ? cdf_[k - 1] : 0.0)) / total_) * area_probability_;
+  if (const double width = cone_width(scene_->shapes[p.shape], from); width > 0)
+    return float(double(select) / (2 * M_PI * width));
   const Vec3 d = p.position - from;
   const float dist2 = glm::dot(d, d);
   const float cos_light = std::fabs(glm::dot(p.geometric_normal, d)) / std::sqrt(dist2);
   if (!(cos_light > 0)) return 0.0f;
-  const float select = float((cdf_[k] - (k ? cdf_[k - 1] : 0.0)) / total_) * area_probability_;
   return select / area_[k] * dist2 / cos_light;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Next-event estimation's choice of a light: the emitting triangles and spheres (one among them with probability
-// proportional to its power, area × luminance of radiance, and a point on it uniformly by area), the environment and
+// proportional to its power, area × luminance of radiance; a point on it uniformly by area, or, on a sphere seen from
+// outside, a direction uniformly within the cone it subtends), the environment and
 // each delta light (point, spot, directional, projector) take equal shares. Also gives the density of hitting a light
 // by chance, for multiple importance sampling.
 #include <vector>

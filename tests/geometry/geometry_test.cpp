@@ -10,6 +10,7 @@
 #include "geometry/surface_sampler.hpp"
 #include "image/image.hpp"
 #include "reference/light_sampler.hpp"
+#include "scene/chi2.hpp"
 #include "scene/scene_files.hpp"
 
 namespace clr::test {
@@ -294,6 +295,34 @@ TEST_F(Geometry, SphereSamplesAreUniformByAreaAndTheLightDensityMatches) {
     ASSERT_TRUE(hit.valid());
     if (std::fabs(hit.t - ls.distance) > 1e-4f) continue;  // drawn on the far side: hidden, no density by hitting
     EXPECT_NEAR(lights.pdf_triangle(g.surface(hit), from), ls.pdf, 1e-3f * ls.pdf);
+  }
+}
+
+// Seen from outside, a sphere light is drawn by a direction uniform within the cone it subtends (none lands on its far,
+// unlit side, as half of area sampling's did): χ² of those directions against the density the light sampler gives
+// for a ray that meets the light (what multiple importance sampling weighs), from near and from further away.
+TEST_F(Geometry, SphereLightsAreDrawnWithinTheirConeByTheDensityTheyReport) {
+  const auto s = scene::load_scene(scene(R"(<shape type="sphere"><float name="radius" value="0.5"/>
+      <point name="center" x="0.3" y="-0.2" z="0.4"/>
+      <emitter type="area"><rgb name="radiance" value="2"/></emitter></shape>)"));
+  const geometry::Geometry g(s);
+  const reference::LightSampler lights(s);
+  // 0.6 and 1 from the centre: cones of 56° and 30° (a narrower one slips between the χ² grid's quadrature nodes).
+  for (const Vec3 from : {Vec3(0.3f, -0.2f, -0.2f), Vec3(0.3f + 0.6f, -0.2f + 0.8f, 0.4f)}) {
+    const auto r = chi2_test(
+        [&](Pcg32& rng) -> std::optional<Vec3> {
+          const auto ls = lights.sample(from, rng);
+          if (!(ls.pdf > 0)) return std::nullopt;
+          EXPECT_GT(ls.radiance.x, 0.0f) << "a direction in the cone meets the lit side";
+          return ls.direction;
+        },
+        [&](const Vec3& w) {
+          const auto hit = g.intersect({from, 0.0f, w});
+          return hit.valid() ? double(lights.pdf_triangle(g.surface(hit), from)) : 0.0;
+        },
+        400'000, 21);
+    ASSERT_TRUE(r.problem.empty()) << r.problem;
+    EXPECT_GT(r.p_value, 0.01) << "dof " << r.dof;
   }
 }
 
