@@ -16,6 +16,20 @@ rank_pid() {
     tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=$1" && { echo "$pid"; return; }
   done
 }
+# Waits up to $1 s for mpirun's process $job to end after $2 (what happened, for the messages); past that continues
+# $3 (a stopped rank, or nothing), kills the job and fails. Sets rc to the job's exit status.
+await_end() {
+  local limit=$1 after=$2 held=${3:-} start=$SECONDS
+  for _ in $(seq $((limit * 10))); do kill -0 $job 2>/dev/null || break; sleep 0.1; done
+  if kill -0 $job 2>/dev/null; then
+    [ -n "$held" ] && kill -CONT "$held"
+    kill -9 $job
+    fail "the job still runs $limit s after $after"
+  fi
+  wait $job
+  rc=$?
+  echo "job ended $((SECONDS - start)) s after $after, exit $rc"
+}
 # Starts a 2-rank training into $work/$1 in the background (its output in $work/$1.out; mpirun options after the
 # name), sets $job and waits until its log holds $2 lines.
 train_two() {
@@ -81,15 +95,7 @@ train_two run 4
 victim=$(rank_pid 1)
 [ -n "$victim" ] || { kill $job; fail "rank 1 not found among mpirun's children"; }
 kill -9 "$victim"
-start=$SECONDS
-for _ in $(seq 300); do kill -0 $job 2>/dev/null || break; sleep 0.1; done
-if kill -0 $job 2>/dev/null; then
-  kill -9 $job
-  fail "the job still runs 30 s after rank 1 died"
-fi
-wait $job
-rc=$?
-echo "job ended $((SECONDS - start)) s after rank 1 was killed, exit $rc"
+await_end 30 "rank 1 was killed"
 [ "$rc" -ne 0 ] || fail "exit 0 after a rank died"
 steps=$(tail -1 "$work/run/log.csv" | cut -d, -f1)
 "$cli" train "$scene" --resume --steps $((steps + 6)) -o "$work/run" >"$work/resume.out" 2>&1 ||
@@ -136,16 +142,7 @@ held=$(rank_pid 1) waiting=$(rank_pid 0)
 kill -STOP "$held"
 sleep 1
 kill -TERM "$waiting"
-start=$SECONDS
-for _ in $(seq 200); do kill -0 $job 2>/dev/null || break; sleep 0.1; done
-if kill -0 $job 2>/dev/null; then
-  kill -CONT "$held"
-  kill -9 $job
-  fail "the job still runs 20 s after SIGTERM reached the waiting rank"
-fi
-wait $job
-rc=$?
-echo "job ended $((SECONDS - start)) s after SIGTERM, exit $rc"
+await_end 20 "SIGTERM reached the waiting rank" "$held"
 [ "$rc" -eq 143 ] || fail "exit $rc after SIGTERM, want 143: $(grep clradiosity "$work/sigwait.out" | head -3)"
 grep -q "clradiosity: stopped: rank 0: stopped by SIGTERM while waiting in .*the other ranks did not arrive within 1 s" \
   "$work/sigwait.out" || fail "no line saying why: $(grep clradiosity "$work/sigwait.out" | head -3)"
@@ -156,16 +153,7 @@ CLRADIOSITY_MPI_TIMEOUT=5 train_two stopped 3 -x CLRADIOSITY_MPI_TIMEOUT
 victim=$(rank_pid 1)
 [ -n "$victim" ] || { kill $job; fail "rank 1 not found among mpirun's children"; }
 kill -STOP "$victim"
-start=$SECONDS
-for _ in $(seq 600); do kill -0 $job 2>/dev/null || break; sleep 0.1; done
-if kill -0 $job 2>/dev/null; then
-  kill -CONT "$victim"
-  kill -9 $job
-  fail "the job still runs 60 s after rank 1 stopped (timeout 5 s, 30 s to answer the roll call)"
-fi
-wait $job
-rc=$?
-echo "job ended $((SECONDS - start)) s after rank 1 stopped, exit $rc"
+await_end 60 "rank 1 stopped (timeout 5 s, 30 s to answer the roll call)" "$victim"
 [ "$rc" -ne 0 ] || fail "exit 0 after a rank stopped answering"
 grep -q "clradiosity: failed: rank 0: .* did not complete within 5 s: rank 1 did not answer within 30 s" \
   "$work/stopped.out" ||
