@@ -15,6 +15,13 @@
 // contiguous) and the B panel (k-major) in __local memory, converted to TF32 once there; the next panel's global
 // reads are issued into registers before the current one's MMAs, so they are in flight while the tensor cores work.
 // Strides are padded so that a warp's fragment reads hit 32 distinct banks (A: row·(BK+4) + k, B: k·(BN+8) + n).
+// STAGES 2 double-buffers the panels: the next panel is stored into the other buffer while this one's MMAs run, so a
+// panel costs one barrier instead of two (the H100 run: two barriers per 16-deep panel left the tensor cores idle).
+//
+// TF32_EMULATE (CPU lanes only: the host sets it where the device runs no PTX) replaces the two PTX instructions by
+// their definitions: the rounding in integer arithmetic and mma.sync's exchange of fragments between a warp's lanes
+// through local memory. So PoCL and Intel's runtime test this file's tiling, fragment layout and buffering against
+// the double twin; only the two instructions themselves are left to the GPU run.
 #ifndef BM
 #define BM 128
 #endif
@@ -45,11 +52,47 @@
 #if MT * NT * 4 != WM * WN || BK % 8 != 0
 #error "gemm_tf32: a lane's accumulators must be WM x WN and BK a multiple of 8"
 #endif
+#ifndef STAGES
+#define STAGES 1
+#endif
+#if STAGES != 1 && STAGES != 2
+#error "gemm_tf32: STAGES is 1 or 2"
+#endif
 #define A_LD (BK + 4)
 #define B_LD (BN + 8)
 #define A_LOADS (BM * BK / THREADS)
 #define B_LOADS (BN * BK / THREADS)
 
+#ifdef TF32_EMULATE
+// cvt.rna.tf32.f32: to nearest, ties away from zero (adding half an ulp of TF32 to the magnitude), Inf and NaN kept.
+inline uint to_tf32(float x) {
+  const uint u = as_uint(x);
+  return (u & 0x7f800000u) == 0x7f800000u ? u : (u + 0x1000u) & 0xffffe000u;
+}
+
+// mma.sync for one warp: every lane publishes its a0..a3, b0, b1 in `f` (32 × 6 words), then forms its four sums
+// from the lanes that hold the rows and columns it needs (layout as below). Every work-item of the group calls it
+// the same number of times, so the barriers are uniform.
+inline void mma_tf32(float* c, const uint* a, const uint* b, __local uint* f, uint lane) {
+  barrier(CLK_LOCAL_MEM_FENCE);  // the previous exchange has been read
+  for (uint q = 0; q < 4; ++q) f[lane * 6 + q] = a[q];
+  f[lane * 6 + 4] = b[0];
+  f[lane * 6 + 5] = b[1];
+  barrier(CLK_LOCAL_MEM_FENCE);
+  const uint group = lane >> 2, t = lane & 3;
+  for (uint q = 0; q < 4; ++q) {
+    const uint r = group + (q / 2) * 8, n = 2 * t + q % 2;
+    float s = c[q];
+    for (uint k = 0; k < 8;
+         ++k)  // A[r][k] is a[(r / 8) + 2 (k / 4)] of lane 4 (r % 8) + k % 4; B[k][n] b[k / 4] of 4n + k % 4
+      s += as_float(f[(4 * (r % 8) + k % 4) * 6 + r / 8 + 2 * (k / 4)]) * as_float(f[(4 * n + k % 4) * 6 + 4 + k / 4]);
+    c[q] = s;
+  }
+}
+#define MMA(c, a, b) mma_tf32(c, a, b, frags + warp * 32 * 6, lane)
+// Unrolled around the exchange's barriers, the kernel takes PoCL many minutes to compile.
+#define UNROLL
+#else
 // clang spells GNU inline assembly __asm__ in OpenCL C; NVIDIA's own front end takes asm.
 #ifdef __clang__
 #define PTX __asm__
@@ -74,14 +117,20 @@ inline void mma_tf32(float* c, const uint* a, const uint* b) {
       : "+f"(c[0]), "+f"(c[1]), "+f"(c[2]), "+f"(c[3])
       : "r"(a[0]), "r"(a[1]), "r"(a[2]), "r"(a[3]), "r"(b[0]), "r"(b[1]));
 }
+#define MMA(c, a, b) mma_tf32(c, a, b)
+#define UNROLL _Pragma("unroll")
+#endif
 
 __kernel __attribute__((reqd_work_group_size(LX, LY, 1))) void gemm_tiled(
     uint M, uint N, uint K, float alpha, __global const float* A, uint a_off, uint a_rs, uint a_cs,
     __global const float* B, uint b_off, uint ldb, float beta, __global float* C, uint c_off, uint ldc, uint k_slice,
     uint c_slice, __global const float* bias, uint bias_off, uint use_bias, uint act, uint b_padded) {
   (void)b_padded;
-  __local uint As[BM * A_LD];  // As[m][k], TF32 bit patterns
-  __local uint Bs[BK * B_LD];  // Bs[k][n]
+  __local uint As[STAGES][BM * A_LD];  // As[m][k], TF32 bit patterns
+  __local uint Bs[STAGES][BK * B_LD];  // Bs[k][n]
+#ifdef TF32_EMULATE
+  __local uint frags[LY * 32 * 6];
+#endif
   const uint lane = (uint)get_local_id(0), warp = (uint)get_local_id(1);
   const uint lid = warp * 32 + lane;
   const uint group = lane >> 2, t = lane & 3;
@@ -103,64 +152,82 @@ __kernel __attribute__((reqd_work_group_size(LX, LY, 1))) void gemm_tiled(
 
   float ra[A_LOADS], rb[B_LOADS];
 #define LOAD_PANELS(k0)                                                         \
-  for (uint i = 0; i < A_LOADS; ++i) {                                          \
+  UNROLL for (uint i = 0; i < A_LOADS; ++i) {                                   \
     const uint e = lid + i * THREADS;                                           \
     const uint r = a_k_fast ? e / BK : e % BM, kk = a_k_fast ? e % BK : e / BM; \
     const uint row = m0 + r, k = (k0) + kk;                                     \
     ra[i] = row < M && k < ke ? A[a_off + row * a_rs + k * a_cs] : 0.0f;        \
   }                                                                             \
-  for (uint i = 0; i < B_LOADS; ++i) {                                          \
+  UNROLL for (uint i = 0; i < B_LOADS; ++i) {                                   \
     const uint e = lid + i * THREADS;                                           \
     const uint col = n0 + e % BN, k = (k0) + e / BN;                            \
     rb[i] = col < N && k < ke ? B[b_off + k * ldb + col] : 0.0f;                \
   }
 
+#define STORE_PANELS(s)                                                         \
+  UNROLL for (uint i = 0; i < A_LOADS; ++i) {                                   \
+    const uint e = lid + i * THREADS;                                           \
+    const uint r = a_k_fast ? e / BK : e % BM, kk = a_k_fast ? e % BK : e / BM; \
+    As[s][r * A_LD + kk] = to_tf32(ra[i]);                                      \
+  }                                                                             \
+  UNROLL for (uint i = 0; i < B_LOADS; ++i) {                                   \
+    const uint e = lid + i * THREADS;                                           \
+    Bs[s][(e / BN) * B_LD + e % BN] = to_tf32(rb[i]);                           \
+  }
+#define MMA_PANEL(s)                                                                                      \
+  UNROLL for (uint ks = 0; ks < BK; ks += 8) {                                                            \
+    uint a[MT][4], b[NT][2];                                                                              \
+    UNROLL for (uint i = 0; i < MT; ++i) {                                                                \
+      const uint r = wm0 + i * 16 + group;                                                                \
+      a[i][0] = As[s][r * A_LD + ks + t];                                                                 \
+      a[i][1] = As[s][(r + 8) * A_LD + ks + t];                                                           \
+      a[i][2] = As[s][r * A_LD + ks + t + 4];                                                             \
+      a[i][3] = As[s][(r + 8) * A_LD + ks + t + 4];                                                       \
+    }                                                                                                     \
+    UNROLL for (uint j = 0; j < NT; ++j) {                                                                \
+      const uint c = wn0 + j * 8 + group;                                                                 \
+      b[j][0] = Bs[s][(ks + t) * B_LD + c];                                                               \
+      b[j][1] = Bs[s][(ks + t + 4) * B_LD + c];                                                           \
+    }                                                                                                     \
+    UNROLL for (uint i = 0; i < MT; ++i) UNROLL for (uint j = 0; j < NT; ++j) MMA(acc[i][j], a[i], b[j]); \
+  }
+
   if (kb < ke) {
-#pragma unroll
     LOAD_PANELS(kb)
   }
+#if STAGES == 1
   for (uint k0 = kb; k0 < ke; k0 += BK) {
-#pragma unroll
-    for (uint i = 0; i < A_LOADS; ++i) {
-      const uint e = lid + i * THREADS;
-      const uint r = a_k_fast ? e / BK : e % BM, kk = a_k_fast ? e % BK : e / BM;
-      As[r * A_LD + kk] = to_tf32(ra[i]);
-    }
-#pragma unroll
-    for (uint i = 0; i < B_LOADS; ++i) {
-      const uint e = lid + i * THREADS;
-      Bs[(e / BN) * B_LD + e % BN] = to_tf32(rb[i]);
-    }
+    STORE_PANELS(0)
     barrier(CLK_LOCAL_MEM_FENCE);
     if (k0 + BK < ke) {
-#pragma unroll
       LOAD_PANELS(k0 + BK)
     }
-#pragma unroll
-    for (uint ks = 0; ks < BK; ks += 8) {
-      uint a[MT][4], b[NT][2];
-#pragma unroll
-      for (uint i = 0; i < MT; ++i) {
-        const uint r = wm0 + i * 16 + group;
-        a[i][0] = As[r * A_LD + ks + t];
-        a[i][1] = As[(r + 8) * A_LD + ks + t];
-        a[i][2] = As[r * A_LD + ks + t + 4];
-        a[i][3] = As[(r + 8) * A_LD + ks + t + 4];
-      }
-#pragma unroll
-      for (uint j = 0; j < NT; ++j) {
-        const uint c = wn0 + j * 8 + group;
-        b[j][0] = Bs[(ks + t) * B_LD + c];
-        b[j][1] = Bs[(ks + t + 4) * B_LD + c];
-      }
-#pragma unroll
-      for (uint i = 0; i < MT; ++i)
-#pragma unroll
-        for (uint j = 0; j < NT; ++j) mma_tf32(acc[i][j], a[i], b[j]);
-    }
+    MMA_PANEL(0)
     // The next iteration overwrites the panels other warps may still be reading.
     barrier(CLK_LOCAL_MEM_FENCE);
   }
+#else
+  if (kb < ke) {
+    STORE_PANELS(0)
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  uint s = 0;
+  for (uint k0 = kb; k0 < ke; k0 += BK, s ^= 1u) {
+    const bool next = k0 + BK < ke;
+    if (next) {
+      LOAD_PANELS(k0 + BK)
+    }
+    MMA_PANEL(s)
+    if (next) {
+      STORE_PANELS(s ^ 1u)
+    }
+    // One barrier a panel: the stores above went to the buffer no warp reads in this iteration; the barrier
+    // publishes them and ends every read of buffer s before the next iteration stores into it.
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+#endif
+#undef MMA_PANEL
+#undef STORE_PANELS
 #undef LOAD_PANELS
 
 #pragma unroll

@@ -78,7 +78,8 @@ std::string to_string(const GemmPlan& plan) {
   if (plan.backend == GemmBackend::Tiled) {
     const auto& b = plan.block;
     return std::string(b.tf32 ? "tf32 " : "tiled ") + std::to_string(b.bm) + "x" + std::to_string(b.bn) + "x" +
-           std::to_string(b.bk) + "/" + std::to_string(b.wm) + "x" + std::to_string(b.wn) + (b.vec == 4 ? "v4" : "");
+           std::to_string(b.bk) + "/" + std::to_string(b.wm) + "x" + std::to_string(b.wn) + (b.vec == 4 ? "v4" : "") +
+           (b.stages == 2 ? "db" : "");
   }
   const auto& t = plan.tile;
   return "own " + std::to_string(t.tm) + "x" + std::to_string(t.vw) + "x" + std::to_string(t.nv);
@@ -106,13 +107,21 @@ std::vector<GemmBlock> gemm_blocks(const cl::DeviceInfo& device) {
   // Tensor cores (TF32 mma.sync, sm_80 and later): 8 warps over a 128 × 128 tile (64 accumulators a lane) with 32-
   // or 16-deep panels, and smaller tiles for products with few rows (B = 4096 gives 32 × 4 tiles of 128 for 132
   // multiprocessors). On an H100 128x128x16 won at every size measured (docs/results/benchmarks.md); the 16-deep
-  // 64 × 128 and 64 × 64 (4 warps) tiles were added after that run, untimed on a GPU: the probe decides.
+  // 64 × 128 and 64 × 64 (4 warps) tiles were added after that run, and the double-buffered 16-deep forms (two
+  // barriers a panel left the H100's tensor cores waiting at B ≤ 16384; 32-deep ones would not fit 48 KiB twice)
+  // after that: untimed on a GPU, the probe decides.
   if (device.nv_compute_capability >= 80)
     for (const GemmBlock b : {GemmBlock{128, 128, 32, 16, 4, 1, true}, GemmBlock{128, 128, 16, 16, 4, 1, true},
                               GemmBlock{64, 128, 32, 8, 4, 1, true}, GemmBlock{64, 128, 16, 8, 4, 1, true},
-                              GemmBlock{64, 64, 16, 16, 2, 1, true}})
+                              GemmBlock{64, 64, 16, 16, 2, 1, true}, GemmBlock{128, 128, 16, 16, 4, 1, true, 2},
+                              GemmBlock{64, 128, 16, 8, 4, 1, true, 2}, GemmBlock{64, 64, 16, 16, 2, 1, true, 2}})
       blocks.push_back(b);
   return blocks;
+}
+
+std::string gemm_block_options(const GemmBlock& block, const cl::DeviceInfo& device) {
+  const bool runs_ptx = device.platform_vendor.find("NVIDIA") != std::string::npos;
+  return programs::gemm_tiled_options(block) + (block.tf32 && !runs_ptx ? " -DTF32_EMULATE" : "");
 }
 
 Gemm::Gemm(cl::Context& ctx, GemmChoice choice) : Gemm(ctx, choose_gemm_plan(ctx, choice)) {}
@@ -121,7 +130,7 @@ Gemm::Gemm(cl::Context& ctx, const GemmPlan& plan) : ctx_(&ctx), plan_(plan) {
   const auto& t = plan.tile;
   const bool tiled = plan.backend == GemmBackend::Tiled;
   const auto& program = tiled ? ctx.program(plan.block.tf32 ? programs::gemm_tf32 : programs::gemm_tiled,
-                                            programs::gemm_tiled_options(plan.block))
+                                            gemm_block_options(plan.block, ctx.device()))
                               : ctx.program(programs::gemm, programs::gemm_options(t.tm, t.vw, t.nv));
   gemm_.emplace(program.kernel(tiled ? "gemm_tiled" : "gemm_own"));
   reduce_.emplace(program.kernel("gemm_reduce_slices"));

@@ -40,14 +40,16 @@ struct GemmTile {
 // each of its (bm/wm)·(bn/wn) work-items keeps wm × wn of C in registers (BM, BN, BK, WM, WN in gemm_tiled.cl).
 // vec 4: the work-item's rows and columns in runs of 4, read from local memory as float4 (VEC in gemm_tiled.cl).
 // tf32: the tensor-core form (gemm_tf32.cl, NVIDIA sm_80 and later): groups of bm/wm warps (bn/wn = 32 lanes), each
-// lane holding wm × wn accumulators of m16n8k8 fragments; products within the TF32 bound, not FP32's.
+// lane holding wm × wn accumulators of m16n8k8 fragments; products within the TF32 bound, not FP32's. stages 2
+// (tf32 only): the panels double-buffered in local memory, one barrier a panel instead of two (STAGES).
 struct GemmBlock {
   unsigned bm, bn, bk, wm, wn, vec;
   bool tf32 = false;
+  unsigned stages = 1;
   std::size_t group_columns() const { return bn / wn; }  // the work-group's extent in dimension 0
   std::size_t group_rows() const { return bm / wm; }
-  std::size_t local_bytes() const {  // As (padded), Bs (padded for tf32)
-    return tf32 ? sizeof(float) * (bm * (bk + 4) + bk * (bn + 8))
+  std::size_t local_bytes() const {  // As (padded), Bs (padded for tf32), each `stages` times
+    return tf32 ? sizeof(float) * stages * (bm * (bk + 4) + bk * (bn + 8))
                 : sizeof(float) * bk * ((bm + (vec == 4 ? 4 : 1)) + bn);
   }
 };
@@ -58,7 +60,7 @@ struct GemmPlan {
   GemmBlock block{};
 };
 // "clblast", "own TMxVWxNV" (e.g. "own 6x16x1"), "tiled BMxBNxBK/WMxWN" (e.g. "tiled 64x64x16/4x4", "v4" after a
-// float4 block) or "tf32 BMxBNxBK/WMxWN"
+// float4 block) or "tf32 BMxBNxBK/WMxWN" ("db" after a double-buffered one)
 std::string to_string(const GemmPlan& plan);
 
 // The own kernel's candidate tiles for this device, the first being the default when nothing is timed.
@@ -66,6 +68,9 @@ std::vector<GemmTile> gemm_tiles(const cl::DeviceInfo& device);
 // The tiled kernel's candidate blocks for this device (all within NVIDIA's 48 KiB and 1024 work-items); none on CPUs.
 // TF32 blocks only where nv_compute_capability >= 80.
 std::vector<GemmBlock> gemm_blocks(const cl::DeviceInfo& device);
+// The tiled kernel's build options for `block` on `device`: a TF32 block on a device that runs no PTX (a test's
+// context that reports a compute capability over PoCL) is built with the two PTX instructions emulated.
+std::string gemm_block_options(const GemmBlock& block, const cl::DeviceInfo& device);
 
 // A row-major matrix inside a buffer: element (i, j) is at buf[offset + i·ld + j].
 struct MatRef {

@@ -10,7 +10,8 @@ std::string gemm_options(unsigned tm, unsigned vw, unsigned nv) {
 
 std::string gemm_tiled_options(const GemmBlock& b) {
   return "-DBM=" + std::to_string(b.bm) + " -DBN=" + std::to_string(b.bn) + " -DBK=" + std::to_string(b.bk) +
-         " -DWM=" + std::to_string(b.wm) + " -DWN=" + std::to_string(b.wn) + " -DVEC=" + std::to_string(b.vec);
+         " -DWM=" + std::to_string(b.wm) + " -DWN=" + std::to_string(b.wn) + " -DVEC=" + std::to_string(b.vec) +
+         " -DSTAGES=" + std::to_string(b.stages);
 }
 
 std::string hashgrid_options(unsigned features, bool fixed_point_grad) {
@@ -38,7 +39,7 @@ std::vector<Build> every_build(const cl::DeviceInfo& device, unsigned fused_inpu
   for (const auto& b : gemm_blocks(device))
     out.push_back({std::string(b.tf32 ? "gemm_tf32_" : "gemm_tiled_") + std::to_string(b.bm) + "x" +
                        std::to_string(b.bn) + "x" + std::to_string(b.bk) + "_" + std::to_string(b.wm) + "x" +
-                       std::to_string(b.wn) + "_v" + std::to_string(b.vec),
+                       std::to_string(b.wn) + "_v" + std::to_string(b.vec) + "_s" + std::to_string(b.stages),
                    b.tf32 ? gemm_tf32 : gemm_tiled, gemm_tiled_options(b)});
   for (const unsigned f : {1u, 2u, 4u, 8u}) {
     out.push_back({"hashgrid_F" + std::to_string(f), hashgrid, hashgrid_options(f, false)});
