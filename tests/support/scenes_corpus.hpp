@@ -2,9 +2,14 @@
 // The corpus of public Mitsuba test scenes (../shared/scenes-corpus beside the shared scenes; its manifest.tsv:
 // folder, main file, ...) as the parameters of the tests that walk it. Where the corpus is absent the list holds one
 // empty entry, whose test skips saying why (named "absent").
+//
+// CLRADIOSITY_SCENES_CORPUS names another folder laid out the same way (a manifest.tsv whose first two columns are
+// the scene's folder and its main file), so that the same tests measure a set assembled elsewhere: the Mitsuba peer
+// over it (docs/scenes.md, "The peer at scale"), and the corpus test listing what it refuses.
 #include <gtest/gtest.h>
 
 #include <cctype>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -13,7 +18,11 @@
 
 namespace clr::test {
 
-inline const std::filesystem::path kCorpus = std::filesystem::path(CLR_SHARED_SCENES) / ".." / "scenes-corpus";
+inline const std::filesystem::path kCorpus = [] {
+  const char* other = std::getenv("CLRADIOSITY_SCENES_CORPUS");
+  return other && *other ? std::filesystem::path(other)
+                         : std::filesystem::path(CLR_SHARED_SCENES) / ".." / "scenes-corpus";
+}();
 
 struct CorpusScene {
   std::string dir, main_xml;  // empty where the corpus is absent
