@@ -41,6 +41,9 @@ double Progress::elapsed_seconds() const {
 }
 
 void Progress::update(double done, const std::string& detail) {
+  // Threads that finish work report in whatever order they reach the reporter: a report behind one already made is
+  // stale (the final line once read 25 % of a render that had finished).
+  if (done < last_done_) return;
   last_done_ = done;
   const auto now = std::chrono::steady_clock::now();
   const double since = std::chrono::duration<double>(now - last_print_).count();

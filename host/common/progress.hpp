@@ -16,7 +16,8 @@ class Progress {
   // `already_done` was done before this process (a resumed run): the ETA takes the rate of this process alone.
   Progress(std::string label, double total, double interval_seconds = 5.0, double already_done = 0);
   ~Progress();
-  // Reports `done` units; `detail` is appended ("loss 0.12"). Prints only when due.
+  // Reports `done` units; `detail` is appended ("loss 0.12"). Prints only when due; a report below an earlier one
+  // (another thread's, arriving late) is ignored, so the lines and the final one never go backwards.
   void update(double done, const std::string& detail = "");
   // Prints the final line unconditionally.
   void finish(const std::string& detail = "");
