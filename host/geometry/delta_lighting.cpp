@@ -12,8 +12,12 @@ Rgb reflected_delta_light(const Geometry& geometry, const SurfacePoint& p, const
   if (scene::is_black(fcos)) return Rgb(0.0f);
   Ray shadow{p.spawn_origin(a.direction), 0.0f, a.direction, a.distance};
   if (std::isfinite(a.distance)) {
-    // Up to the light's position, where nothing can be hit: t in units of the whole segment.
-    shadow.direction = p.position + a.direction * a.distance - shadow.origin;
+    // Up to just short of the light's position (t in units of the segment), by the relative margin an origin is
+    // pushed off its surface: a light placed exactly on a surface would otherwise be hidden by that surface, which
+    // rounding puts in front of it for most rays. Mitsuba stops its shadow rays short too.
+    const Vec3 at = p.position + a.direction * a.distance;
+    const float margin = std::fmin(2e-5f * std::fmax(1.0f, scene::max_component(glm::abs(at))), 0.5f * a.distance);
+    shadow.direction = at - a.direction * margin - shadow.origin;
     shadow.tfar = 1.0f;
   }
   if (rays) ++*rays;
