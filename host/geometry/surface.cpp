@@ -13,20 +13,23 @@ float height(const scene::BumpMap& b, scene::TexturePoint at, const Vec2& du = V
   return scene::luminance(b.height.eval(at));
 }
 
-// Tilts the shading normal by the height field's gradient: the surface becomes p + scale·h(uv)·n, whose tangents
-// are dp/du + scale·(dh/du)·n (the normal's own variation is neglected, as is usual).
-Vec3 bump_normal(const scene::BumpMap& b, const Vec3& n, const Vec3& dpdu, const Vec3& dpdv,
+// Tilts the shading normal by the height field's gradient as Mitsuba's bumpmap does: the tangents become dp/du and
+// dp/dv with their component along the shading normal n replaced by scale·∂h, so that a flat height field keeps n
+// (an interpolated normal, not the triangle's), and the result is turned to the geometric normal's side.
+Vec3 bump_normal(const scene::BumpMap& b, const Vec3& n, const Vec3& geometric, const Vec3& dpdu, const Vec3& dpdv,
                  const scene::TexturePoint& at) {
-  constexpr float kDelta = 1e-3f;  // in uv; below a texel of any texture up to 1000² so the lookups resolve it
+  // Differences over an eighth of a texel: the derivative of the bilinear lookup within the texel, as Mitsuba's
+  // analytic gradient, where a fixed 1e-3 spanned two texels of a 2048² map and smoothed the bumps away.
+  const float delta = std::clamp(b.height.texel_uv() / 8.0f, 1e-5f, 1e-3f);
   const float h = height(b, at);
-  const float dhdu = (height(b, at, Vec2(kDelta, 0)) - h) / kDelta;
-  const float dhdv = (height(b, at, Vec2(0, kDelta)) - h) / kDelta;
-  const Vec3 tu = dpdu + b.scale * dhdu * n, tv = dpdv + b.scale * dhdv * n;
+  const float dhdu = (height(b, at, Vec2(delta, 0)) - h) / delta;
+  const float dhdv = (height(b, at, Vec2(0, delta)) - h) / delta;
+  const Vec3 tu = dpdu + (b.scale * dhdu - glm::dot(n, dpdu)) * n, tv = dpdv + (b.scale * dhdv - glm::dot(n, dpdv)) * n;
   Vec3 bumped = glm::cross(tu, tv);
   const float len = glm::length(bumped);
   if (!(len > 0)) return n;
   bumped /= len;
-  return glm::dot(bumped, n) < 0 ? -bumped : bumped;
+  return glm::dot(bumped, geometric) < 0 ? -bumped : bumped;
 }
 
 }  // namespace
@@ -113,7 +116,7 @@ SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::
     p.frame = scene::Frame(n);
     return p;
   }
-  if (bump && l.have_uv) n = bump_normal(*bump, n, l.dpdu, l.dpdv, p.at);
+  if (bump && l.have_uv) n = bump_normal(*bump, n, p.geometric_normal, l.dpdu, l.dpdv, p.at);
   // The shading frame Mitsuba uses for normal maps and anisotropic lobes: s = dp/du made orthogonal to n.
   auto tangent_frame = [&](const Vec3& normal) {
     const Vec3 s_raw = l.dpdu - normal * glm::dot(normal, l.dpdu);
@@ -132,6 +135,7 @@ SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::
     if (len > 0) n = glm::normalize(tangent_frame(n).to_world(local / len));
   }
   p.frame = normal_map || bsdf.anisotropic() ? tangent_frame(n) : scene::Frame(n);
+  if (n != l.n) p.untilted_normal = l.n;
   return p;
 }
 

@@ -14,9 +14,10 @@ using scene::Vec3;
 
 struct SurfacePoint {
   Vec3 position;
-  Vec3 geometric_normal;   // unit, from the triangle's winding (a sphere's: its normal)
-  scene::Frame frame;      // shading frame: z = interpolated (and possibly bump-mapped) normal
-  scene::TexturePoint at;  // uv, and the triangle and barycentrics for mesh attributes
+  Vec3 geometric_normal;       // unit, from the triangle's winding (a sphere's: its normal)
+  scene::Frame frame;          // shading frame: z = interpolated (and possibly bump-mapped) normal
+  Vec3 untilted_normal{0.0f};  // where a bump or normal map tilted the frame, the normal before (BsdfPoint)
+  scene::TexturePoint at;      // uv, and the triangle and barycentrics for mesh attributes
   std::uint32_t shape = 0, prim = 0;
   // The largest |coordinate| of the triangle's vertices (of the sphere's box): the position and Embree's hits carry
   // float error relative to it. 0 where unknown (a point built by hand).
@@ -27,7 +28,7 @@ struct SurfacePoint {
   // one, so that a scene scaled by any factor is offset alike (tests/radiosity/extremes_test.cpp).
   Vec3 spawn_origin(const Vec3& dir) const;
   // The BSDF at this point in world space (BsdfPoint converts directions to the shading frame).
-  scene::BsdfPoint bsdf(const scene::Scene& s) const { return {&s.bsdf(s.shapes[shape]), frame, at}; }
+  scene::BsdfPoint bsdf(const scene::Scene& s) const { return {&s.bsdf(s.shapes[shape]), frame, at, untilted_normal}; }
 };
 
 // The point `b` of primitive `prim` of shape `shape` (scene::Shape::texture_point: a triangle's barycentrics, weights

@@ -72,18 +72,29 @@ struct BsdfPoint {
   const Bsdf* bsdf;
   Frame frame;
   TexturePoint at;
+  // Where a bump or normal map tilted `frame`, the shading normal before it (else zero). As in Mitsuba's bumpmap and
+  // normalmap, the BSDF is zero for an incident direction on one side of the tilted normal and the other side of
+  // this one: a tilted frame would otherwise pass light through an opaque surface, or reflect what a glass surface
+  // transmits (a bump-mapped glass rendered 14 % brighter than in Mitsuba).
+  Vec3 untilted_normal{0.0f};
 
   Rgb eval(const Vec3& wo_world, const Vec3& wi_world) const {
+    if (!same_side(wi_world)) return Rgb(0.0f);
     return bsdf->eval(at, frame.to_local(wo_world), frame.to_local(wi_world));
   }
   float pdf(const Vec3& wo_world, const Vec3& wi_world) const {
+    if (!same_side(wi_world)) return 0.0f;
     return bsdf->pdf(at, frame.to_local(wo_world), frame.to_local(wi_world));
   }
   // wi in the result is in world space.
   std::optional<BsdfSample> sample(const Vec3& wo_world, float u_lobe, const Vec2& u) const {
     auto s = bsdf->sample(at, frame.to_local(wo_world), u_lobe, u);
     if (s) s->wi = frame.to_world(s->wi);
+    if (s && !same_side(s->wi)) return std::nullopt;
     return s;
+  }
+  bool same_side(const Vec3& wi_world) const {
+    return untilted_normal == Vec3(0.0f) || glm::dot(wi_world, untilted_normal) * glm::dot(wi_world, frame.n) > 0.0f;
   }
 };
 

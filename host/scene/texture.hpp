@@ -89,6 +89,9 @@ class Texture {
   glm::ivec2 resolution() const {
     return kind_ == Kind::bitmap ? glm::ivec2(bitmap_->width, bitmap_->height) : glm::ivec2(1);
   }
+  // The surface's uv distance across one texel (a bitmap's, through its to_uv): the finest detail the texture
+  // holds. Infinity for textures without texels.
+  float texel_uv() const;
 
  private:
   Rgb eval_varying(const TexturePoint& at) const;

@@ -120,6 +120,12 @@ Rgb Texture::eval_varying(const TexturePoint& at) const {
   return mu == mv ? c0_ : c1_;
 }
 
+float Texture::texel_uv() const {
+  if (kind_ != Kind::bitmap) return std::numeric_limits<float>::infinity();
+  const float stretch = std::max(glm::length(to_uv_.linear[0]), glm::length(to_uv_.linear[1]));
+  return 1.0f / (float(std::max(bitmap_->width, bitmap_->height)) * std::max(stretch, 1e-30f));
+}
+
 Rgb Texture::mean() const {
   switch (kind_) {
     case Kind::constant:
