@@ -354,6 +354,34 @@ TEST_F(RealScenes, SpectraInScenes) {
               HasSubstr("wavelength:value"));
 }
 
+// One value in a <spectrum> is a flat spectrum. As a reflectance it is grey; as emission Mitsuba 3.9.1 (scalar_rgb)
+// reads it as illuminant E in linear sRGB, (1.2047939, 0.9482909, 0.90891606) for 1, on every emitter kind, where
+// <rgb> and <float> of the same value stay grey. It was grey here too, which shifted a public scene's colours by 10
+// to 17 %.
+TEST_F(RealScenes, OneValueSpectraAreFlatSpectra) {
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="rectangle"><bsdf type="diffuse"><spectrum name="reflectance" value="0.5"/></bsdf>
+      <emitter type="area"><spectrum name="radiance" value="2"/></emitter></shape>
+    <shape type="rectangle"><emitter type="area"><float name="radiance" value="2"/></emitter></shape>
+    <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="2"/></emitter></shape>
+    <emitter type="point"><spectrum name="intensity" value="3"/></emitter>
+    <emitter type="constant"><spectrum name="radiance" value="0.5"/></emitter>)"));
+  const Rgb e(1.2047939f, 0.9482909f, 0.90891606f);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(s.shapes[0].radiance[c], 2 * e[c], 2e-3f * e[c]) << c;
+    EXPECT_NEAR(s.delta_lights[0].intensity[c], 3 * e[c], 3e-3f * e[c]) << c;
+    EXPECT_NEAR(s.environment->eval(Vec3(0, 0, 1))[c], 0.5f * e[c], 5e-4f * e[c]) << c;
+    EXPECT_EQ(s.bsdf(s.shapes[0]).albedo(Vec2(0))[c], 0.5f) << c;
+    EXPECT_EQ(s.shapes[1].radiance[c], 2.0f) << c;
+    EXPECT_EQ(s.shapes[2].radiance[c], 2.0f) << c;
+  }
+  // Mitsuba 0.6 read it grey, and so do files of its versions.
+  const auto old = scene::load_scene(
+      scene(R"(<shape type="rectangle"><emitter type="area"><spectrum name="radiance" value="2"/></emitter></shape>)",
+            "0.6.0"));
+  EXPECT_EQ(old.shapes[0].radiance, Rgb(2.0f));
+}
+
 TEST_F(RealScenes, OutOfScopeFeaturesAreRefusedByName) {
   EXPECT_THAT(refusal(R"(<integrator type="stokes"><integrator type="path"/></integrator>)"),
               HasSubstr("polarization"));

@@ -5,7 +5,6 @@
 
 namespace clr::scene {
 namespace {
-constexpr float kCieMin = 360.0f, kCieMax = 830.0f;
 constexpr int kSteps = 1000;
 
 // ∫ȳ (or ∫ȳ·D65) over the integration grid, so that a flat spectrum of 1 has Y = 1 exactly.
@@ -13,7 +12,7 @@ float y_integral(bool d65) {
   const auto integrate = [](bool weighted) {
     double sum = 0;
     for (int i = 0; i < kSteps; ++i) {
-      const float w = kCieMin + float(i) / float(kSteps - 1) * (kCieMax - kCieMin);
+      const float w = kCieFirst + float(i) / float(kSteps - 1) * (kCieLast - kCieFirst);
       sum += double(cie1931_xyz(w).y) * (weighted ? double(cie_d65(w)) : 1.0);
     }
     return float(sum);
@@ -142,7 +141,7 @@ float cie_d65(float lambda) {
 }
 
 Vec3 cie1931_xyz(float lambda) {
-  const float x = (lambda - kCieMin) / 5.0f;
+  const float x = (lambda - kCieFirst) / 5.0f;
   constexpr int n = int(sizeof(kCie1931) / sizeof(kCie1931[0]));
   if (!(x >= 0.0f && x <= float(n - 1))) return Vec3(0.0f);
   const int i = std::min(int(x), n - 2);
@@ -159,7 +158,7 @@ Vec3 xyz_to_linear_srgb(const Vec3& c) {
 Rgb spectrum_to_rgb(const std::vector<float>& wavelengths, const std::vector<float>& values, bool bounded, bool d65) {
   glm::dvec3 xyz(0.0);
   for (int i = 0; i < kSteps; ++i) {
-    const float w = kCieMin + float(i) / float(kSteps - 1) * (kCieMax - kCieMin);
+    const float w = kCieFirst + float(i) / float(kSteps - 1) * (kCieLast - kCieFirst);
     if (w < wavelengths.front() || w > wavelengths.back()) continue;
     const auto k = std::size_t(
         std::min<std::ptrdiff_t>(std::upper_bound(wavelengths.begin(), wavelengths.end(), w) - wavelengths.begin() - 1,

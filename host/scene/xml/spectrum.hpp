@@ -11,6 +11,9 @@
 
 namespace clr::scene {
 
+// The wavelengths (nm) the colour-matching functions span: a flat spectrum is flat between these.
+inline constexpr float kCieFirst = 360.0f, kCieLast = 830.0f;
+
 // CIE 1931 2° colour-matching functions x̄, ȳ, z̄ at wavelength λ (nm): the CIE's table every 5 nm, linear between
 // (zero outside 360–830 nm).
 Vec3 cie1931_xyz(float lambda);

@@ -168,10 +168,22 @@ Rgb Node::color() const {
   if (t == "spectrum" && value.find(':') != std::string::npos) return spectrum();
   const auto v = numbers("value");
   if (v.size() != 1 && v.size() != 3) fail("a colour needs 1 or 3 values");
+  // One value of a <spectrum> is a flat spectrum. Mitsuba 3's RGB variants turn it grey as a reflectance (under
+  // D65) but, as emission, into illuminant E's linear sRGB (1.2048, 0.9483, 0.9089): warmer than a grey <rgb>
+  // or <float> of the same value. A public scene lit so rendered 10–17 % off in red and blue. Mitsuba 0.x, whose
+  // files declare an older version, kept it grey.
+  if (t == "spectrum" && v.size() == 1 && source->version_major >= 2 && inside_emitter())
+    return spectrum_to_rgb({kCieFirst, kCieLast}, {v[0], v[0]}, false, false);
   Rgb c = v.size() == 1 ? Rgb(v[0]) : Rgb(v[0], v[1], v[2]);
   if (t == "srgb")
     for (int i = 0; i < 3; ++i) c[i] = srgb_to_linear(c[i]);
   return c;
+}
+
+bool Node::inside_emitter() const {
+  for (pugi::xml_node p = xml.parent(); p; p = p.parent())
+    if (std::string(p.name()) == "emitter") return true;
+  return false;
 }
 
 Rgb Node::spectrum() const {
@@ -192,9 +204,7 @@ Rgb Node::spectrum() const {
   if (wavelengths.size() < 2) fail("a spectrum needs at least two wavelength:value pairs");
   // Emission and the unbounded optical constants may exceed 1; reflectances are clamped to [0, 1] (Mitsuba).
   // Only emission is integrated without the D65 white (Mitsuba 3's RGB variants).
-  bool emission = false;
-  for (pugi::xml_node p = xml.parent(); p; p = p.parent())
-    if (std::string(p.name()) == "emitter") emission = true;
+  const bool emission = inside_emitter();
   const std::string name = attr_or("name", "");
   const bool bounded = !emission && name != "eta" && name != "k" && name != "int_ior" && name != "ext_ior";
   return spectrum_to_rgb(wavelengths, values, bounded, !emission);

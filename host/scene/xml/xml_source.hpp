@@ -46,6 +46,7 @@ struct Node {
   // <rgb>/<srgb> (three values, one, or "#rrggbb"), <spectrum> (one value or wavelength:value pairs), <float>.
   Rgb color() const;
   Rgb spectrum() const;         // wavelength:value pairs → linear sRGB (scene/xml/spectrum.hpp)
+  bool inside_emitter() const;  // an <emitter> encloses the element: its colours are emission
   Vec3 vector3() const;         // <point>/<vector>: x/y/z attributes or value="x, y, z"
   glm::mat4 transform() const;  // <transform>: its children applied in document order
 };
