@@ -221,7 +221,8 @@ Mesh load_ply(const std::filesystem::path& path) {
       if (vertex) {
         m.positions.emplace_back(float(values[ix]), float(values[iy]), float(values[iz]));
         if (normals) m.normals.emplace_back(float(values[inx]), float(values[iny]), float(values[inz]));
-        if (uvs) m.uvs.emplace_back(float(values[iu]), 1.0f - float(values[iv]));
+        // As stored, as Mitsuba 3 reads them (only obj's v is flipped, there and here).
+        if (uvs) m.uvs.emplace_back(float(values[iu]), float(values[iv]));
       }
       // One value per vertex, or per triangle the face was fanned into.
       const std::size_t copies = face ? m.triangles.size() - triangles_before : 1;
