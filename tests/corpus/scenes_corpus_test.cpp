@@ -76,5 +76,12 @@ TEST(ScenesCorpusCli, OutOfScopeScenesExitTwoWithOneLine) {
   }
 }
 
+// A set assembled elsewhere had folders "scene-init" and "scene_init": one gtest name twice, and every test of the
+// binary aborted before it ran.
+TEST(CorpusTestNames, FoldersThatDifferOnlyInPunctuationGetDistinctNames) {
+  const auto names = corpus_test_names({{"a-b", "x.xml"}, {"a_b", "x.xml"}, {"c", "x.xml"}, {"", ""}});
+  EXPECT_EQ(names, (std::vector<std::string>{"a_b_0", "a_b_1", "c", "absent"}));
+}
+
 }  // namespace
 }  // namespace clr::test

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -43,12 +44,26 @@ inline std::vector<CorpusScene> corpus_scenes() {
   return out;
 }
 
-// A gtest parameter name: the folder with every character but letters and digits as '_'.
+// gtest parameter names for `scenes`: each folder with every character but letters and digits as '_' ("absent" for
+// the empty entry). Folders that differ only in punctuation ("scene-init", "scene_init", as an assembled set had)
+// would get one name twice, on which gtest aborts the whole binary: those get their index appended.
+inline std::vector<std::string> corpus_test_names(const std::vector<CorpusScene>& scenes) {
+  std::vector<std::string> names;
+  std::map<std::string, int> uses;
+  for (const auto& s : scenes) {
+    std::string n = s.dir.empty() ? "absent" : s.dir;
+    for (char& c : n)
+      if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    ++uses[n];
+    names.push_back(n);
+  }
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (uses[names[i]] > 1) names[i] += "_" + std::to_string(i);
+  return names;
+}
 inline std::string corpus_test_name(const ::testing::TestParamInfo<CorpusScene>& p) {
-  std::string n = p.param.dir.empty() ? "absent" : p.param.dir;
-  for (char& c : n)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return n;
+  static const std::vector<std::string> names = corpus_test_names(corpus_scenes());
+  return p.index < names.size() ? names[p.index] : "scene_" + std::to_string(p.index);
 }
 
 }  // namespace clr::test
