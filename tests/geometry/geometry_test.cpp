@@ -20,7 +20,19 @@ using geometry::Ray;
 using scene::Vec2;
 using scene::Vec3;
 
-class Geometry : public SceneFiles {};
+class Geometry : public SceneFiles {
+ protected:
+  // A rectangle bump-mapped by a ramp: height 0 at u = 0.25 rising to 1 at u = 0.75 (bilinear between two texels),
+  // so dh/du = 2, at scale 0.5 over a diffuse BSDF.
+  scene::Scene ramp_bumped_rectangle() const {
+    image::Image ramp(2, 1);
+    for (int c = 0; c < 3; ++c) ramp.pixel(1, 0)[c] = 1.0f;
+    image::write_png(dir_ / "ramp.png", ramp);
+    return scene::load_scene(scene(R"(<shape type="rectangle"><bsdf type="bumpmap">
+      <texture name="map" type="bitmap"><string name="filename" value="ramp.png"/></texture>
+      <float name="scale" value="0.5"/><bsdf type="diffuse"/></bsdf></shape>)"));
+  }
+};
 
 TEST_F(Geometry, ClosestHitFindsThePointItsAttributesAndItsSide) {
   const auto s = scene::load_scene(scene(R"(
@@ -49,14 +61,9 @@ TEST_F(Geometry, ClosestHitFindsThePointItsAttributesAndItsSide) {
 }
 
 TEST_F(Geometry, BumpMapsTiltTheShadingNormalByTheHeightGradient) {
-  // Height 0 at u = 0.25 rising to 1 at u = 0.75 (bilinear between two texels): dh/du = 2. On the rectangle
-  // dp/du = (2, 0, 0), so the bumped tangent is (2, 0, 2·scale) and the normal leans back along −x.
-  image::Image ramp(2, 1);
-  for (int c = 0; c < 3; ++c) ramp.pixel(1, 0)[c] = 1.0f;
-  image::write_png(dir_ / "ramp.png", ramp);
-  const auto s = scene::load_scene(scene(R"(<shape type="rectangle"><bsdf type="bumpmap">
-    <texture name="map" type="bitmap"><string name="filename" value="ramp.png"/></texture>
-    <float name="scale" value="0.5"/><bsdf type="diffuse"/></bsdf></shape>)"));
+  // dh/du = 2 and, on the rectangle, dp/du = (2, 0, 0): the bumped tangent is (2, 0, 2·scale) and the normal leans
+  // back along −x.
+  const auto s = ramp_bumped_rectangle();
   const geometry::Geometry g(s);
   const auto p = g.surface(g.intersect({Vec3(0, 0.3f, 1), 0.0f, Vec3(0, 0, -1)}));
   const Vec3 want = glm::normalize(Vec3(-1, 0, 2));  // cross((2, 0, 1), (0, 2, 0)) ∝ (−2, 0, 4)
@@ -69,12 +76,7 @@ TEST_F(Geometry, BumpMapsTiltTheShadingNormalByTheHeightGradient) {
 // which a frame tilted by 26.6° (the ramp above) otherwise reflected from below the surface (a bump-mapped glass
 // rendered 14 % brighter than in Mitsuba, and a diffuse one let light through).
 TEST_F(Geometry, TiltedFramesPassNoLightAcrossTheUntiltedNormal) {
-  image::Image ramp(2, 1);
-  for (int c = 0; c < 3; ++c) ramp.pixel(1, 0)[c] = 1.0f;
-  image::write_png(dir_ / "ramp.png", ramp);
-  const auto s = scene::load_scene(scene(R"(<shape type="rectangle"><bsdf type="bumpmap">
-    <texture name="map" type="bitmap"><string name="filename" value="ramp.png"/></texture>
-    <float name="scale" value="0.5"/><bsdf type="diffuse"/></bsdf></shape>)"));
+  const auto s = ramp_bumped_rectangle();
   const geometry::Geometry g(s);
   const auto p = g.surface(g.intersect({Vec3(0, 0.3f, 1), 0.0f, Vec3(0, 0, -1)}));
   const auto bsdf = p.bsdf(s);
