@@ -19,6 +19,21 @@ double cone_width(const scene::Shape& shape, const Vec3& from) {
   return sin2 / (1 + std::sqrt(1 - sin2));  // without the cancellation of 1 − √(1 − sin²)
 }
 
+// The uv of the point where a direction drawn uniformly within that cone (1 − cos θmax = `width`) from two uniforms
+// first meets the sphere (the near root, in double).
+scene::Vec2 uv_in_cone(const scene::Sphere& s, const Vec3& from, double width, const scene::Vec2& u) {
+  const glm::dvec3 axis = glm::normalize(glm::dvec3(s.center) - glm::dvec3(from));
+  const double one_minus_cos = double(u.x) * width, cos_t = 1 - one_minus_cos;
+  const double sin_t = std::sqrt(std::fmax(0.0, one_minus_cos * (2 - one_minus_cos))), phi = 2 * M_PI * double(u.y);
+  const scene::Frame frame{Vec3(axis)};
+  const glm::dvec3 dir = glm::normalize(
+      glm::dvec3(frame.to_world(Vec3(float(sin_t * std::cos(phi)), float(sin_t * std::sin(phi)), float(cos_t)))));
+  const glm::dvec3 oc = glm::dvec3(from) - glm::dvec3(s.center);
+  const double b = glm::dot(oc, dir), c = glm::dot(oc, oc) - double(s.radius) * s.radius;
+  const double t = -b - std::sqrt(std::fmax(0.0, b * b - c));
+  return s.uv(Vec3(oc + t * dir));
+}
+
 }  // namespace
 
 LightSampler::LightSampler(const scene::Scene& scene)
@@ -83,44 +98,19 @@ LightSample LightSampler::sample(const Vec3& from, Pcg32& rng) const {
   const double target = double(rng.next_float()) * total_;
   const auto k = std::size_t(std::min<std::ptrdiff_t>(std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin(),
                                                       std::ptrdiff_t(cdf_.size()) - 1));
-  const float select = float((cdf_[k] - (k ? cdf_[k - 1] : 0.0)) / total_) * area_probability_;
   const scene::Shape& shape = scene_->shapes[shape_[k]];
-  if (const double width = cone_width(shape, from); width > 0) {
-    // A direction uniform in the cone, then the point where it meets the sphere (the near root, in double).
-    const scene::Sphere& s = *shape.sphere;
-    const glm::dvec3 axis = glm::normalize(glm::dvec3(s.center) - glm::dvec3(from));
-    const double one_minus_cos = double(u.x) * width, cos_t = 1 - one_minus_cos;
-    const double sin_t = std::sqrt(std::fmax(0.0, one_minus_cos * (2 - one_minus_cos))), phi = 2 * M_PI * double(u.y);
-    const scene::Frame frame{Vec3(axis)};
-    const glm::dvec3 dir = glm::normalize(
-        glm::dvec3(frame.to_world(Vec3(float(sin_t * std::cos(phi)), float(sin_t * std::sin(phi)), float(cos_t)))));
-    const glm::dvec3 oc = glm::dvec3(from) - glm::dvec3(s.center);
-    const double b = glm::dot(oc, dir), c = glm::dot(oc, oc) - double(s.radius) * s.radius;
-    const double t = -b - std::sqrt(std::fmax(0.0, b * b - c));
-    const glm::dvec3 hit = oc + t * dir;
-    const auto p = geometry::surface_point(*scene_, shape_[k], prim_[k], s.uv(Vec3(hit)));
-    const Vec3 d = p.position - from;
-    ls.distance = glm::length(d);
-    if (!(ls.distance > 0)) return ls;
-    ls.direction = d / ls.distance;
-    ls.point = p.position;
-    ls.light_normal = p.geometric_normal;
-    ls.radiance = geometry::emitted(*scene_, p, -ls.direction);
-    ls.pdf = float(double(select) / (2 * M_PI * width));
-    return ls;
-  }
-  const auto p = geometry::uniform_surface_point(*scene_, shape_[k], prim_[k], u);
+  const double width = cone_width(shape, from);
+  const auto p = width > 0
+                     ? geometry::surface_point(*scene_, shape_[k], prim_[k], uv_in_cone(*shape.sphere, from, width, u))
+                     : geometry::uniform_surface_point(*scene_, shape_[k], prim_[k], u);
   const Vec3 d = p.position - from;
-  const float dist2 = glm::dot(d, d);
-  if (!(dist2 > 0)) return ls;
-  ls.distance = std::sqrt(dist2);
+  ls.distance = glm::length(d);
+  if (!(ls.distance > 0)) return ls;
   ls.direction = d / ls.distance;
   ls.point = p.position;
   ls.light_normal = p.geometric_normal;
   ls.radiance = geometry::emitted(*scene_, p, -ls.direction);
-  const float cos_light = std::fabs(glm::dot(p.geometric_normal, ls.direction));
-  if (!(cos_light > 0)) return ls;
-  ls.pdf = select / area_[k] * dist2 / cos_light;
+  ls.pdf = pdf_triangle(p, from);  // the density MIS is told, so the two agree by construction
   return ls;
 }
 
