@@ -47,7 +47,7 @@ float alpha_hash(std::uint32_t prim, float ox, float oy, float oz, float dx, flo
   return float(h >> 40) * 0x1p-24f;
 }
 
-// Whether the mask lets primitive `prim` at `b` stop the ray (the alpha test; a sphere passes which of its two
+// Whether the mask lets primitive `prim` at `b` stop the ray (the alpha test; an exact shape passes which of its
 // crossings as `prim`).
 bool opaque(const Geometry::ShapeData& d, std::uint32_t prim, const Vec2& b, const float o[3], const float dir[3]) {
   if (!d.opacity) return true;
@@ -68,55 +68,47 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
   }
 }
 
-// ---- exact spheres: an Embree user geometry ----------------------------------------------------------------------
+// ---- exact shapes (spheres, cylinders, disks): an Embree user geometry ------------------------------------------
 
-void sphere_bounds(const RTCBoundsFunctionArguments* args) {
-  const scene::Sphere& s = *static_cast<const Geometry::ShapeData*>(args->geometryUserPtr)->shape->sphere;
-  // Padded by the float rounding of centre ± radius, so that the box holds every point the roots can give.
-  const float pad = s.radius * 1e-6f +
-                    1e-6f * std::max({std::fabs(s.center.x), std::fabs(s.center.y), std::fabs(s.center.z), s.radius});
+void exact_bounds(const RTCBoundsFunctionArguments* args) {
+  const scene::ExactShape& s = *static_cast<const Geometry::ShapeData*>(args->geometryUserPtr)->shape->exact;
+  Vec3 lo, hi;
+  s.bounds(lo, hi);
+  // Padded by the float rounding of the box's coordinates, so that it holds every point the roots can give.
+  const Vec3 big = glm::max(glm::abs(lo), glm::abs(hi));
+  const float pad = 1e-6f * std::max({big.x, big.y, big.z, glm::length(hi - lo)});
   RTCBounds& b = *args->bounds_o;
-  b.lower_x = s.center.x - s.radius - pad;
-  b.lower_y = s.center.y - s.radius - pad;
-  b.lower_z = s.center.z - s.radius - pad;
-  b.upper_x = s.center.x + s.radius + pad;
-  b.upper_y = s.center.y + s.radius + pad;
-  b.upper_z = s.center.z + s.radius + pad;
+  b.lower_x = lo.x - pad;
+  b.lower_y = lo.y - pad;
+  b.lower_z = lo.z - pad;
+  b.upper_x = hi.x + pad;
+  b.upper_y = hi.y + pad;
+  b.upper_z = hi.z + pad;
 }
 
-// The first crossing of the ray with the sphere in (tnear, tfar) that the mask lets stop it: its t and uv. In double:
-// a ray leaving the sphere starts a relative 2e-5 off it (SurfacePoint::spawn_origin), so the roots are near
-// cancellation, which float would resolve to about that much.
-bool sphere_crossing(const Geometry::ShapeData& d, const float o[3], const float dir[3], float tnear, float tfar,
-                     float& t_hit, Vec2& uv) {
-  const scene::Sphere& s = *d.shape->sphere;
-  const double oc[3] = {double(o[0]) - s.center.x, double(o[1]) - s.center.y, double(o[2]) - s.center.z};
-  const double a = double(dir[0]) * dir[0] + double(dir[1]) * dir[1] + double(dir[2]) * dir[2];
-  const double b = oc[0] * dir[0] + oc[1] * dir[1] + oc[2] * dir[2];
-  const double c = oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2] - double(s.radius) * s.radius;
-  const double disc = b * b - a * c;
-  if (!(disc >= 0) || !(a > 0)) return false;
-  // The two roots without cancellation: q = −(b + sign(b)·√disc), t = q/a and c/q.
-  const double q = -(b + std::copysign(std::sqrt(disc), b));
-  double t[2] = {q / a, q != 0 ? c / q : q / a};
-  if (t[0] > t[1]) std::swap(t[0], t[1]);
-  for (std::uint32_t k = 0; k < 2; ++k) {
-    const double tr = t[k];
-    if (!(tr > tnear && tr < tfar)) continue;
-    const Vec3 offset(float(oc[0] + tr * dir[0]), float(oc[1] + tr * dir[1]), float(oc[2] + tr * dir[2]));
-    const Vec2 at = s.uv(offset);
+// The first crossing of the ray with the shape in (tnear, tfar) that the mask lets stop it: its t and uv.
+bool exact_crossing(const Geometry::ShapeData& d, const float o[3], const float dir[3], float tnear, float tfar,
+                    float& t_hit, Vec2& uv) {
+  const scene::ExactShape& s = *d.shape->exact;
+  const double od[3] = {o[0], o[1], o[2]}, dd[3] = {dir[0], dir[1], dir[2]};
+  double t[2];
+  const int n = s.crossings(od, dd, t);
+  for (int k = 0; k < n; ++k) {
+    if (!(t[k] > tnear && t[k] < tfar)) continue;
+    const Vec2 at = s.uv(glm::dvec3(od[0] - s.origin.x + t[k] * dd[0], od[1] - s.origin.y + t[k] * dd[1],
+                                    od[2] - s.origin.z + t[k] * dd[2]));
     // Each crossing draws its own alpha test (k stands for the triangle a mesh would have): a ray through a masked
     // glass sphere that skipped the entry and never the exit would skip the exit's η² too, and lose 5 % of its
     // light in a white furnace.
-    if (!opaque(d, k, at, o, dir)) continue;
-    t_hit = float(tr);
+    if (!opaque(d, std::uint32_t(k), at, o, dir)) continue;
+    t_hit = float(t[k]);
     uv = at;
     return true;
   }
   return false;
 }
 
-void sphere_intersect(const RTCIntersectFunctionNArguments* args) {
+void exact_intersect(const RTCIntersectFunctionNArguments* args) {
   const auto* d = static_cast<const Geometry::ShapeData*>(args->geometryUserPtr);
   const unsigned n = args->N;
   RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
@@ -127,9 +119,9 @@ void sphere_intersect(const RTCIntersectFunctionNArguments* args) {
     const float dir[3] = {RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i)};
     float t = 0;
     Vec2 uv;
-    if (!sphere_crossing(*d, o, dir, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i), t, uv)) continue;
+    if (!exact_crossing(*d, o, dir, RTCRayN_tnear(ray, n, i), RTCRayN_tfar(ray, n, i), t, uv)) continue;
     RTCRayN_tfar(ray, n, i) = t;
-    const Vec3 normal = d->shape->sphere->direction(uv);
+    const Vec3 normal = d->shape->exact->normal(uv);
     RTCHitN_Ng_x(hit, n, i) = normal.x;
     RTCHitN_Ng_y(hit, n, i) = normal.y;
     RTCHitN_Ng_z(hit, n, i) = normal.z;
@@ -141,7 +133,7 @@ void sphere_intersect(const RTCIntersectFunctionNArguments* args) {
   }
 }
 
-void sphere_occluded(const RTCOccludedFunctionNArguments* args) {
+void exact_occluded(const RTCOccludedFunctionNArguments* args) {
   const auto* d = static_cast<const Geometry::ShapeData*>(args->geometryUserPtr);
   const unsigned n = args->N;
   for (unsigned i = 0; i < n; ++i) {
@@ -151,7 +143,7 @@ void sphere_occluded(const RTCOccludedFunctionNArguments* args) {
                           RTCRayN_dir_z(args->ray, n, i)};
     float t = 0;
     Vec2 uv;
-    if (sphere_crossing(*d, o, dir, RTCRayN_tnear(args->ray, n, i), RTCRayN_tfar(args->ray, n, i), t, uv))
+    if (exact_crossing(*d, o, dir, RTCRayN_tnear(args->ray, n, i), RTCRayN_tfar(args->ray, n, i), t, uv))
       RTCRayN_tfar(args->ray, n, i) = -std::numeric_limits<float>::infinity();
   }
 }
@@ -187,12 +179,12 @@ Geometry::Geometry(const scene::Scene& scene) : scene_(&scene), embree_(std::mak
     shape_data_.push_back(std::make_unique<ShapeData>(ShapeData{&shape, scene.bsdf(shape).opacity()}));
     ShapeData* data = shape_data_.back().get();
     RTCGeometry g = nullptr;
-    if (shape.sphere) {
+    if (shape.exact) {
       g = rtcNewGeometry(embree_->device, RTC_GEOMETRY_TYPE_USER);
       rtcSetGeometryUserPrimitiveCount(g, 1);
-      rtcSetGeometryBoundsFunction(g, sphere_bounds, nullptr);
-      rtcSetGeometryIntersectFunction(g, sphere_intersect);
-      rtcSetGeometryOccludedFunction(g, sphere_occluded);
+      rtcSetGeometryBoundsFunction(g, exact_bounds, nullptr);
+      rtcSetGeometryIntersectFunction(g, exact_intersect);
+      rtcSetGeometryOccludedFunction(g, exact_occluded);
       rtcSetGeometryUserData(g, data);  // the mask is tested in the callbacks themselves
     } else {
       const scene::Mesh& m = shape.mesh;

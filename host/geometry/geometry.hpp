@@ -1,7 +1,7 @@
 #pragma once
-// The scene's triangles and exact spheres in an Embree 3 BVH: closest-hit and any-hit queries, one ray at a time or
-// as a batch spread over all cores. Masked surfaces (Mitsuba's `mask`) are cut out by an alpha test in Embree's filter
-// functions, so every query sees the same holes.
+// The scene's triangles and exact shapes (spheres, cylinders, disks) in an Embree 3 BVH: closest-hit and any-hit
+// queries, one ray at a time or as a batch spread over all cores. Masked surfaces (Mitsuba's `mask`) are cut out by an
+// alpha test in Embree's filter functions, so every query sees the same holes.
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -24,8 +24,8 @@ inline constexpr std::uint32_t kNoHit = 0xffffffffu;
 struct Hit {
   float t = std::numeric_limits<float>::infinity();
   std::uint32_t shape = kNoHit;  // index into Scene::shapes
-  std::uint32_t prim = 0;        // triangle within the shape (0 on a sphere)
-  Vec2 barycentric{0.0f};        // weights of the triangle's vertices 1 and 2, or the sphere's uv
+  std::uint32_t prim = 0;        // triangle within the shape (0 on an exact shape)
+  Vec2 barycentric{0.0f};        // weights of the triangle's vertices 1 and 2, or the exact shape's uv
   bool valid() const { return shape != kNoHit; }
 };
 
@@ -46,7 +46,7 @@ class Geometry {
   SurfacePoint surface(const Hit& hit) const { return surface_point(*scene_, hit.shape, hit.prim, hit.barycentric); }
   const scene::Scene& scene() const { return *scene_; }
 
-  struct ShapeData;  // what Embree's callbacks read of a shape: its sphere, its mask
+  struct ShapeData;  // what Embree's callbacks read of a shape: its exact shape, its mask
 
  private:
   const scene::Scene* scene_;

@@ -85,11 +85,13 @@ Local on_triangle(const scene::Mesh& m, std::uint32_t prim, const Vec2& b, bool 
   return l;
 }
 
-Local on_sphere(const scene::Sphere& s, const Vec2& uv, bool need_tangents, SurfacePoint& p) {
-  const Vec3 d = s.direction(uv);
-  p.position = s.center + s.radius * d;
-  p.extent = std::max({std::fabs(s.center.x), std::fabs(s.center.y), std::fabs(s.center.z)}) + s.radius;
-  p.geometric_normal = s.flip ? -d : d;
+Local on_exact(const scene::ExactShape& s, const Vec2& uv, bool need_tangents, SurfacePoint& p) {
+  p.position = s.position(uv);
+  Vec3 lo, hi;
+  s.bounds(lo, hi);
+  const Vec3 big = glm::max(glm::abs(lo), glm::abs(hi));
+  p.extent = std::max({big.x, big.y, big.z});
+  p.geometric_normal = s.normal(uv);
   p.at = scene::TexturePoint(uv);
   Local l{p.geometric_normal};
   if (need_tangents) {
@@ -110,7 +112,7 @@ SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::
   SurfacePoint p;
   p.shape = shape;
   p.prim = prim;
-  const Local l = s.sphere ? on_sphere(*s.sphere, b, need_tangents, p) : on_triangle(s.mesh, prim, b, need_tangents, p);
+  const Local l = s.exact ? on_exact(*s.exact, b, need_tangents, p) : on_triangle(s.mesh, prim, b, need_tangents, p);
   Vec3 n = l.n;
   if (!need_tangents) {
     p.frame = scene::Frame(n);
@@ -140,7 +142,7 @@ SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::
 }
 
 SurfacePoint uniform_surface_point(const scene::Scene& scene, std::uint32_t shape, std::uint32_t prim, const Vec2& u) {
-  if (scene.shapes[shape].sphere) return surface_point(scene, shape, prim, scene::Sphere::uniform_uv(u));
+  if (const auto& exact = scene.shapes[shape].exact) return surface_point(scene, shape, prim, exact->uniform_uv(u));
   // Uniform barycentrics: (1 − √ξ1, √ξ1·ξ2) spreads ξ evenly over the triangle's area.
   const float su = std::sqrt(u.x);
   return surface_point(scene, shape, prim, Vec2(su * (1.0f - u.y), su * u.y));

@@ -14,12 +14,12 @@ using scene::Vec3;
 
 struct SurfacePoint {
   Vec3 position;
-  Vec3 geometric_normal;       // unit, from the triangle's winding (a sphere's: its normal)
+  Vec3 geometric_normal;       // unit, from the triangle's winding (an exact shape's: its normal)
   scene::Frame frame;          // shading frame: z = interpolated (and possibly bump-mapped) normal
   Vec3 untilted_normal{0.0f};  // where a bump or normal map tilted the frame, the normal before (BsdfPoint)
   scene::TexturePoint at;      // uv, and the triangle and barycentrics for mesh attributes
   std::uint32_t shape = 0, prim = 0;
-  // The largest |coordinate| of the triangle's vertices (of the sphere's box): the position and Embree's hits carry
+  // The largest |coordinate| of the triangle's vertices (of an exact shape's box): the position and Embree's hits carry
   // float error relative to it. 0 where unknown (a point built by hand).
   float extent = 0;
 
@@ -32,7 +32,7 @@ struct SurfacePoint {
 };
 
 // The point `b` of primitive `prim` of shape `shape` (scene::Shape::texture_point: a triangle's barycentrics, weights
-// of vertices 1 and 2, or a sphere's uv).
+// of vertices 1 and 2, or an exact shape's uv).
 SurfacePoint surface_point(const scene::Scene& scene, std::uint32_t shape, std::uint32_t prim, const Vec2& b);
 // The point of primitive `prim` that two uniforms `u` name, uniformly distributed over its area.
 SurfacePoint uniform_surface_point(const scene::Scene& scene, std::uint32_t shape, std::uint32_t prim, const Vec2& u);

@@ -11,9 +11,10 @@ namespace {
 // area instead (`from` on or inside it, or a sphere that emits inwards). Within the cone every direction meets its
 // near, lit side: drawing directions there, as Mitsuba does, wastes none on the far side as area sampling does.
 double cone_width(const scene::Shape& shape, const Vec3& from) {
-  if (!shape.sphere || shape.sphere->flip) return 0;
-  const glm::dvec3 d = glm::dvec3(shape.sphere->center) - glm::dvec3(from);
-  const double d2 = glm::dot(d, d), r2 = double(shape.sphere->radius) * shape.sphere->radius;
+  const auto& s = shape.exact;
+  if (!s || s->kind != scene::ExactShape::Kind::sphere || s->flip) return 0;
+  const glm::dvec3 d = glm::dvec3(s->origin) - glm::dvec3(from);
+  const double d2 = glm::dot(d, d), r2 = double(s->radius()) * s->radius();
   if (!(d2 > r2 * (1 + 1e-4))) return 0;
   const double sin2 = r2 / d2;
   return sin2 / (1 + std::sqrt(1 - sin2));  // without the cancellation of 1 − √(1 − sin²)
@@ -21,17 +22,17 @@ double cone_width(const scene::Shape& shape, const Vec3& from) {
 
 // The uv of the point where a direction drawn uniformly within that cone (1 − cos θmax = `width`) from two uniforms
 // first meets the sphere (the near root, in double).
-scene::Vec2 uv_in_cone(const scene::Sphere& s, const Vec3& from, double width, const scene::Vec2& u) {
-  const glm::dvec3 axis = glm::normalize(glm::dvec3(s.center) - glm::dvec3(from));
+scene::Vec2 uv_in_cone(const scene::ExactShape& s, const Vec3& from, double width, const scene::Vec2& u) {
+  const glm::dvec3 axis = glm::normalize(glm::dvec3(s.origin) - glm::dvec3(from));
   const double one_minus_cos = double(u.x) * width, cos_t = 1 - one_minus_cos;
   const double sin_t = std::sqrt(std::fmax(0.0, one_minus_cos * (2 - one_minus_cos))), phi = 2 * M_PI * double(u.y);
   const scene::Frame frame{Vec3(axis)};
   const glm::dvec3 dir = glm::normalize(
       glm::dvec3(frame.to_world(Vec3(float(sin_t * std::cos(phi)), float(sin_t * std::sin(phi)), float(cos_t)))));
-  const glm::dvec3 oc = glm::dvec3(from) - glm::dvec3(s.center);
-  const double b = glm::dot(oc, dir), c = glm::dot(oc, oc) - double(s.radius) * s.radius;
+  const glm::dvec3 oc = glm::dvec3(from) - glm::dvec3(s.origin);
+  const double b = glm::dot(oc, dir), c = glm::dot(oc, oc) - double(s.radius()) * s.radius();
   const double t = -b - std::sqrt(std::fmax(0.0, b * b - c));
-  return s.uv(Vec3(oc + t * dir));
+  return s.uv(oc + t * dir);
 }
 
 }  // namespace
@@ -101,7 +102,7 @@ LightSample LightSampler::sample(const Vec3& from, Pcg32& rng) const {
   const scene::Shape& shape = scene_->shapes[shape_[k]];
   const double width = cone_width(shape, from);
   const auto p = width > 0
-                     ? geometry::surface_point(*scene_, shape_[k], prim_[k], uv_in_cone(*shape.sphere, from, width, u))
+                     ? geometry::surface_point(*scene_, shape_[k], prim_[k], uv_in_cone(*shape.exact, from, width, u))
                      : geometry::uniform_surface_point(*scene_, shape_[k], prim_[k], u);
   const Vec3 d = p.position - from;
   ls.distance = glm::length(d);

@@ -14,7 +14,7 @@ namespace clr::scene {
 // sphere with normals and uvs took 38 MB, ~146 bytes a triangle).
 inline constexpr std::uint64_t kBytesPerTriangle = 120;         // indices, BVH, Embree's copy
 inline constexpr std::uint64_t kBytesPerVertex = 48;            // position, normal, uv, Embree's padded copy
-inline constexpr std::uint64_t kBytesPerSphere = 512;           // the shape's record and its user primitive
+inline constexpr std::uint64_t kBytesPerExactShape = 512;       // the shape's record and its user primitive
 inline constexpr std::uint64_t kBytesPerTexel = 12;             // float RGB
 inline constexpr std::uint64_t kBytesPerEnvironmentTexel = 24;  // float RGB and the sampling tables
 

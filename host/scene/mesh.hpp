@@ -1,12 +1,12 @@
 #pragma once
-// Triangle meshes: what every Mitsuba shape but an exact sphere (scene/sphere.hpp) becomes. The other analytic shapes
-// are tessellated finely enough that their area and normals match to well under the renderer's noise (primitives.cpp).
+// Triangle meshes: what every Mitsuba shape but the exact sphere, cylinder and disk (scene/exact_shape.hpp) becomes.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "scene/exact_shape.hpp"
 #include "scene/frame.hpp"
 #include "scene/texture.hpp"
 
@@ -65,11 +65,11 @@ Mesh load_ply(const std::filesystem::path& path);
 Mesh load_serialized(const std::filesystem::path& path, int shape_index,
                      const std::function<void(std::uint64_t)>& before_decoding = {});
 
-// Mitsuba's analytic shapes in their local frames: rectangle [-1,1]² in z = 0 facing +z; cube [-1,1]³ facing out;
-// disk of radius 1 in z = 0 facing +z; unit sphere at the origin facing out.
+// Mitsuba's analytic shapes in their local frames: rectangle [-1,1]² in z = 0 facing +z; cube [-1,1]³ facing out.
 Mesh make_rectangle();
 Mesh make_cube();
-Mesh make_disk();
-Mesh make_sphere();
+// A tessellation of the unit sphere or cylinder (ExactShape's local frame), with the exact normals at its vertices:
+// what stands in for an exact shape that a to_world makes into something else (an ellipsoid, an elliptic tube).
+Mesh tessellate(ExactShape::Kind kind);
 
 }  // namespace clr::scene

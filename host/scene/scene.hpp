@@ -12,28 +12,28 @@
 #include "scene/camera.hpp"
 #include "scene/delta_light.hpp"
 #include "scene/environment.hpp"
+#include "scene/exact_shape.hpp"
 #include "scene/mesh.hpp"
-#include "scene/sphere.hpp"
 
 namespace clr::scene {
 
 struct Shape {
   std::string id;  // the XML id, or "shape N" (its index) when it has none
-  Mesh mesh;       // empty for an exact sphere
-  std::optional<Sphere> sphere;
+  Mesh mesh;       // empty for an exact shape
+  std::optional<ExactShape> exact;
   int material = 0;    // index into Scene::materials
   Rgb radiance{0.0f};  // area emitter (emits on the side its shading normal faces); black: none
   // A textured area emitter's radiance over the surface's uv; `radiance` then holds its mean.
   std::optional<Texture> radiance_texture;
   bool is_emitter() const { return !is_black(radiance); }
 
-  // A shape's primitives are its triangles, or the sphere as one; a point on primitive `prim` is named by `b`: the
-  // triangle's barycentrics (weights of its vertices 1 and 2), or the sphere's uv.
-  std::size_t primitive_count() const { return sphere ? 1 : mesh.triangles.size(); }
+  // A shape's primitives are its triangles, or the exact shape as one; a point on primitive `prim` is named by `b`:
+  // the triangle's barycentrics (weights of its vertices 1 and 2), or the exact shape's uv.
+  std::size_t primitive_count() const { return exact ? 1 : mesh.triangles.size(); }
   double primitive_area(std::uint32_t prim) const;
   double area() const;
   TexturePoint texture_point(std::uint32_t prim, const Vec2& b) const {
-    return sphere ? TexturePoint(b) : mesh.texture_point(prim, b);
+    return exact ? TexturePoint(b) : mesh.texture_point(prim, b);
   }
   // Grows the box [lo, hi] to hold the shape.
   void extend_bounds(Vec3& lo, Vec3& hi) const;

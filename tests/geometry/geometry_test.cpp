@@ -218,9 +218,9 @@ TEST_F(Geometry, SpheresAreHitExactlyAtEveryScale) {
         scene::load_scene(scene(R"(<shape type="sphere"><point name="center" x=")" + std::to_string(c.x) + R"(" y=")" +
                                 std::to_string(c.y) + R"(" z=")" + std::to_string(c.z) +
                                 R"("/><float name="radius" value=")" + std::to_string(r) + R"("/></shape>)"));
-    ASSERT_TRUE(s.shapes[0].sphere) << "a sphere is kept exact";
+    ASSERT_TRUE(s.shapes[0].exact) << "a sphere is kept exact";
     ASSERT_TRUE(s.shapes[0].mesh.triangles.empty());
-    const Vec3 centre = s.shapes[0].sphere->center;
+    const Vec3 centre = s.shapes[0].exact->origin;
     const geometry::Geometry g(s);
     Pcg32 rng(3, 9);
     for (int i = 0; i < 2000; ++i) {
@@ -274,7 +274,7 @@ TEST_F(Geometry, SpheresKeepMitsubasUvAndNormalsUnderEveryPlacement) {
   EXPECT_NEAR(px.position.x, 2.0f, 1e-6f);
   // Rotated 90° about x: its local +z points along world −y, so the point nearest −y is its pole; flipped normals
   // face the centre.
-  ASSERT_TRUE(s.shapes[1].sphere);
+  ASSERT_TRUE(s.shapes[1].exact);
   EXPECT_NEAR(s.shapes[1].area(), 4 * M_PI * 9, 1e-3);
   const auto pole = at(Vec3(10, -5, 0), Vec3(0, 1, 0));
   EXPECT_EQ(pole.shape, 1u);
@@ -282,17 +282,17 @@ TEST_F(Geometry, SpheresKeepMitsubasUvAndNormalsUnderEveryPlacement) {
   EXPECT_NEAR(pole.position.y, -3.0f, 1e-5f);
   EXPECT_NEAR(pole.geometric_normal.y, 1.0f, 1e-6f);
   // A stretched sphere is an ellipsoid: tessellated.
-  EXPECT_FALSE(s.shapes[2].sphere);
+  EXPECT_FALSE(s.shapes[2].exact);
   EXPECT_GT(s.shapes[2].mesh.triangles.size(), 1000u);
   // Instances: a uniform scale keeps the sphere exact, a stretch tessellates that copy only.
-  ASSERT_TRUE(s.shapes[3].sphere);
-  EXPECT_NEAR(s.shapes[3].sphere->radius, 0.5f, 1e-7f);
+  ASSERT_TRUE(s.shapes[3].exact);
+  EXPECT_NEAR(s.shapes[3].exact->radius(), 0.5f, 1e-7f);
   EXPECT_NEAR(at(Vec3(0, -10, 5), Vec3(0, 0, -1)).position.z, 0.5f, 1e-6f);
-  EXPECT_FALSE(s.shapes[4].sphere);
+  EXPECT_FALSE(s.shapes[4].exact);
   EXPECT_NEAR(at(Vec3(5, 10, 0), Vec3(-1, 0, 0)).position.x, 2.0f, 1e-4f);
   // The tangents a bump map and an anisotropic lobe are oriented by: ∂p/∂u along +φ, ∂p/∂v along +θ.
   Vec3 dpdu, dpdv;
-  s.shapes[0].sphere->tangents(Vec2(0.25f, 0.5f), dpdu, dpdv);
+  s.shapes[0].exact->tangents(Vec2(0.25f, 0.5f), dpdu, dpdv);
   EXPECT_NEAR(glm::length(dpdu - Vec3(-4 * M_PI, 0, 0)), 0.0f, 1e-4f);
   EXPECT_NEAR(glm::length(dpdv - Vec3(0, 0, -2 * M_PI)), 0.0f, 1e-4f);
 }

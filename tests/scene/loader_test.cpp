@@ -126,11 +126,12 @@ TEST_F(Loader, AnalyticShapesHaveTheirAreasAndNormals) {
     <shape type="cube"><boolean name="flip_normals" value="true"/></shape>)"));
   EXPECT_NEAR(s.shapes[0].mesh.area(), 4.0, 1e-6);
   EXPECT_NEAR(s.shapes[1].mesh.area(), 24.0, 1e-5);
-  EXPECT_NEAR(s.shapes[2].mesh.area(), M_PI, 1e-3);
-  ASSERT_TRUE(s.shapes[3].sphere);              // exact: its centre and radius, no triangles
+  ASSERT_TRUE(s.shapes[2].exact);  // exact, as the sphere
+  EXPECT_NEAR(s.shapes[2].area(), M_PI, 1e-6);
+  ASSERT_TRUE(s.shapes[3].exact);               // exact: its centre and radius, no triangles
   EXPECT_NEAR(s.shapes[3].area(), M_PI, 1e-6);  // 4π r², r = 1/2
-  expect_vec(s.shapes[3].sphere->center, Vec3(1, 2, 3));
-  EXPECT_FLOAT_EQ(s.shapes[3].sphere->radius, 0.5f);
+  expect_vec(s.shapes[3].exact->origin, Vec3(1, 2, 3));
+  EXPECT_FLOAT_EQ(s.shapes[3].exact->radius(), 0.5f);
   EXPECT_TRUE(s.shapes[3].mesh.triangles.empty());
   // Cube faces point outwards; flip_normals turns them (winding included) inwards.
   for (const auto& [index, sign] : {std::pair{1, 1.0f}, std::pair{4, -1.0f}}) {

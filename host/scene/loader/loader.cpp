@@ -398,7 +398,7 @@ class Loader final : public loader::Context {
 
   // Bytes a built shape holds, with Embree's copy and BVH (scene/memory_budget.hpp).
   static std::uint64_t bytes_of(const Shape& s) {
-    if (s.sphere) return kBytesPerSphere;
+    if (s.exact) return kBytesPerExactShape;
     std::uint64_t bytes = s.mesh.triangles.size() * kBytesPerTriangle + s.mesh.positions.size() * kBytesPerVertex;
     for (const auto& a : s.mesh.attributes) bytes += a.values.size() * sizeof(float);
     return bytes;
@@ -481,20 +481,23 @@ class Loader final : public loader::Context {
     }
   }
 
-  // Moves shape `s` by `to_world` and validates it. A sphere stays exact where to_world keeps it a sphere; one
-  // stretched into an ellipsoid is tessellated (Mitsuba refuses it; a tessellation shows what was asked for).
+  // Moves shape `s` by `to_world` and validates it. An exact shape stays exact where to_world keeps it one; a sphere
+  // stretched into an ellipsoid or a cylinder into an elliptic tube is tessellated (Mitsuba refuses the one and
+  // mis-sizes the other; a tessellation shows what was asked for).
   void place(const Node& n, Shape& s, const glm::mat4& to_world) {
-    if (s.sphere) {
-      if (const auto moved = Sphere::from(to_world * s.sphere->to_world(), s.sphere->flip)) {
-        s.sphere = moved;
-        if (glm::any(glm::greaterThan(glm::abs(moved->center) + moved->radius, Vec3(kMaxCoordinate))))
-          n.fail("the sphere reaches beyond ±1e12, farther than single-precision ray tracing can resolve");
+    if (s.exact) {
+      if (const auto moved = ExactShape::from(s.exact->kind, to_world * s.exact->to_world(), s.exact->flip)) {
+        s.exact = moved;
+        Vec3 lo, hi;
+        moved->bounds(lo, hi);
+        if (glm::any(glm::greaterThan(glm::max(glm::abs(lo), glm::abs(hi)), Vec3(kMaxCoordinate))))
+          n.fail("the shape reaches beyond ±1e12, farther than single-precision ray tracing can resolve");
         return;
       }
-      s.mesh = make_sphere();
-      s.mesh.transform(s.sphere->to_world());
-      if (s.sphere->flip) s.mesh.flip();
-      s.sphere.reset();
+      s.mesh = tessellate(s.exact->kind);
+      s.mesh.transform(s.exact->to_world());
+      if (s.exact->flip) s.mesh.flip();
+      s.exact.reset();
     }
     s.mesh.transform(to_world);
     s.mesh.validate(n.where());
@@ -528,8 +531,8 @@ class Loader final : public loader::Context {
     const glm::mat4 to_world = p.transform("to_world") * made.to_world;
     check_to_world(n, to_world);
     const bool flip = p.boolean("flip_normals", false);
-    if (made.sphere) {
-      s.sphere = Sphere{.flip = flip};
+    if (made.exact) {
+      s.exact = ExactShape::from(*made.exact, glm::mat4(1.0f), flip);
     } else {
       s.mesh = std::move(made.mesh);
       if (p.boolean("face_normals", false)) s.mesh.normals.clear();

@@ -16,6 +16,7 @@
 #include "scene/camera.hpp"
 #include "scene/delta_light.hpp"
 #include "scene/environment.hpp"
+#include "scene/exact_shape.hpp"
 #include "scene/mesh.hpp"
 #include "scene/texture.hpp"
 #include "scene/xml/xml_source.hpp"
@@ -64,12 +65,12 @@ struct EmitterPlugin {
   std::optional<DeltaLight> delta;
 };
 
-// A shape plugin's mesh in its local frame, or the unit sphere (`sphere`, no mesh); `to_world` may be amended (a
-// sphere's radius and centre).
+// A shape plugin's mesh in its local frame, or an exact unit shape (no mesh); `to_world` may be amended (a sphere's
+// radius and centre, a cylinder's ends).
 struct ShapePlugin {
   Mesh mesh;
   glm::mat4 to_world{1.0f};
-  bool sphere = false;
+  std::optional<ExactShape::Kind> exact{};  // none: a mesh
 };
 
 // The loader's services to plugin readers.

@@ -1,13 +1,14 @@
 #include <cmath>
+#include <stdexcept>
 
 #include "scene/loader/plugin.hpp"
 #include "scene/mesh.hpp"
 
 namespace clr::scene {
 namespace {
-// Tessellation of the curved shapes: the sphere's relative area error is ~(π/kRings)²/6 ≈ 4e-5 and its normals
-// are the exact ones, far below what a reference render at hundreds of spp can resolve. Spheres are exact
-// (scene/sphere.hpp); this mesh stands in only for one that a to_world stretches into an ellipsoid.
+// Tessellation of the curved shapes: the sphere's relative area error is ~(π/kRings)²/6 ≈ 4e-5, the cylinder's
+// (π/kSegments)²/6 ≈ 6e-6, and their normals are the exact ones, far below what a reference render at hundreds of
+// spp can resolve.
 constexpr int kRings = 256, kSegments = 512;
 }  // namespace
 
@@ -47,21 +48,7 @@ Mesh make_cube() {
   return m;
 }
 
-Mesh make_disk() {
-  Mesh m;
-  m.positions.push_back({0, 0, 0});
-  m.normals.push_back({0, 0, 1});
-  m.uvs.push_back({0, 0});
-  for (int i = 0; i < kSegments; ++i) {
-    const float phi = 2.0f * kPi * float(i) / float(kSegments);
-    m.positions.push_back({std::cos(phi), std::sin(phi), 0});
-    m.normals.push_back({0, 0, 1});
-    m.uvs.push_back({1, float(i) / float(kSegments)});  // Mitsuba's disk uv: (r, φ/2π)
-  }
-  for (std::uint32_t i = 0; i < std::uint32_t(kSegments); ++i)
-    m.triangles.push_back({0, 1 + i, 1 + (i + 1) % std::uint32_t(kSegments)});
-  return m;
-}
+namespace {
 
 Mesh make_sphere() {
   Mesh m;
@@ -86,12 +73,46 @@ Mesh make_sphere() {
   return m;
 }
 
+// An open tube, uv = (φ/2π, z).
+Mesh make_cylinder() {
+  Mesh m;
+  for (int s = 0; s <= kSegments; ++s) {
+    const float phi = 2.0f * kPi * float(s) / float(kSegments);
+    const Vec3 radial(std::cos(phi), std::sin(phi), 0.0f);
+    for (const float z : {0.0f, 1.0f}) {
+      m.positions.push_back(radial + Vec3(0, 0, z));
+      m.normals.push_back(radial);
+      m.uvs.push_back({phi / (2.0f * kPi), z});
+    }
+  }
+  for (std::uint32_t s = 0; s < std::uint32_t(kSegments); ++s) {
+    const std::uint32_t a = 2 * s, b = 2 * s + 2, c = 2 * s + 3, d = 2 * s + 1;  // (φ, z): a (0,0) b (1,0) c (1,1)
+    m.triangles.push_back({a, b, c});
+    m.triangles.push_back({a, c, d});
+  }
+  return m;
+}
+
+}  // namespace
+
+Mesh tessellate(ExactShape::Kind kind) {
+  switch (kind) {
+    case ExactShape::Kind::sphere:
+      return make_sphere();
+    case ExactShape::Kind::cylinder:
+      return make_cylinder();
+    case ExactShape::Kind::disk:
+      break;
+  }
+  throw std::logic_error("a disk is exact under every to_world that the loader accepts");
+}
+
 }  // namespace clr::scene
 
 namespace clr::scene::loader {
 ShapePlugin read_rectangle(Context&, const Props&) { return {make_rectangle(), glm::mat4(1.0f)}; }
 ShapePlugin read_cube(Context&, const Props&) { return {make_cube(), glm::mat4(1.0f)}; }
-ShapePlugin read_disk(Context&, const Props&) { return {make_disk(), glm::mat4(1.0f)}; }
+ShapePlugin read_disk(Context&, const Props&) { return {Mesh{}, glm::mat4(1.0f), ExactShape::Kind::disk}; }
 
 ShapePlugin read_sphere(Context&, const Props& p) {
   const float radius = p.number("radius", 1.0f);
@@ -100,6 +121,6 @@ ShapePlugin read_sphere(Context&, const Props& p) {
   return {Mesh{},
           glm::mat4(glm::vec4(radius, 0, 0, 0), glm::vec4(0, radius, 0, 0), glm::vec4(0, 0, radius, 0),
                     glm::vec4(center, 1)),
-          true};
+          ExactShape::Kind::sphere};
 }
 }  // namespace clr::scene::loader

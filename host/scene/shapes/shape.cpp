@@ -4,14 +4,16 @@
 
 namespace clr::scene {
 
-double Shape::primitive_area(std::uint32_t prim) const { return sphere ? sphere->area() : mesh.triangle_area(prim); }
+double Shape::primitive_area(std::uint32_t prim) const { return exact ? exact->area() : mesh.triangle_area(prim); }
 
-double Shape::area() const { return sphere ? sphere->area() : mesh.area(); }
+double Shape::area() const { return exact ? exact->area() : mesh.area(); }
 
 void Shape::extend_bounds(Vec3& lo, Vec3& hi) const {
-  if (sphere) {
-    lo = glm::min(lo, sphere->center - sphere->radius);
-    hi = glm::max(hi, sphere->center + sphere->radius);
+  if (exact) {
+    Vec3 l, h;
+    exact->bounds(l, h);
+    lo = glm::min(lo, l);
+    hi = glm::max(hi, h);
   }
   for (const auto& v : mesh.positions) {
     lo = glm::min(lo, v);
