@@ -1,7 +1,7 @@
 // ISNR on one scene per delta emitter kind (scenes/delta-lights/: the Cornell room lit by a point, a spot, a
 // projector or, through its open top, a directional light), trained with the default settings for the same number
-// of steps as the bundled Cornell box and measured the same way; and the principled BSDF (scenes/principled.xml) (MAPE
-// of a 64×64 render against the path tracer). "Comparable to the Cornell box" is held as at most twice its MAPE: a
+// of steps as the bundled Cornell box and measured the same way; and the principled BSDF (scenes/principled.xml) and
+// the exact cylinder and disk (scenes/exact-shapes.xml) (MAPE of a 64×64 render against the path tracer). "Comparable to the Cornell box" is held as at most twice its MAPE: a
 // scene whose delta light the right-hand side missed renders black (MAPE near 1), one that learned only the direct term
 // loses the indirect half of the room.
 #include <gtest/gtest.h>
@@ -71,6 +71,11 @@ TEST_F(DeltaLightTrainingSlow, EachKindTrainsAsWellAsTheCornellBox) {
   RecordProperty("principled_mape", std::to_string(principled.mape));
   EXPECT_EQ(principled.non_finite, 0u);
   EXPECT_LT(principled.mape, 2.0 * cornell.mape) << "principled against the Cornell box's " << cornell.mape;
+  // A tube light, a textured oval (a stretched disk) and a textured pillar: exact shapes as emitter and receivers.
+  const Result exact = train_and_measure(kScenes / "exact-shapes.xml");
+  RecordProperty("exact_shapes_mape", std::to_string(exact.mape));
+  EXPECT_EQ(exact.non_finite, 0u);
+  EXPECT_LT(exact.mape, 2.0 * cornell.mape) << "exact shapes against the Cornell box's " << cornell.mape;
 }
 
 }  // namespace
