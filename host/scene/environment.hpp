@@ -1,12 +1,16 @@
 #pragma once
-// Light from infinitely far away: Mitsuba's `constant` and `envmap` (lat-long image) emitters. The envmap is looked
-// up bilinearly between texel centres, as Mitsuba 3 looks it up (a nearest-texel lookup lit a diffuse sphere 0.3 %
-// darker than Mitsuba and showed its texels), and importance-sampled by a piecewise-constant density proportional to
-// luminance · sin θ; sample() reports that density, which pdf() gives too, and the bilinear radiance.
+// Light from infinitely far away: Mitsuba's `constant`, `envmap` (lat-long image) and `sunsky` emitters. The envmap is
+// looked up bilinearly between texel centres, as Mitsuba 3 looks it up (a nearest-texel lookup lit a diffuse sphere 0.3
+// % darker than Mitsuba and showed its texels), and importance-sampled by a piecewise-constant density proportional to
+// luminance · sin θ; sample() reports that density, which pdf() gives too, and the bilinear radiance. A sunsky is
+// evaluated analytically; its sky is sampled by such a table of itself and its sun by a direction uniform in the
+// disc's cone, each by its share of the power.
 #include <filesystem>
+#include <memory>
 #include <vector>
 
 #include "scene/frame.hpp"
+#include "scene/sunsky.hpp"
 
 namespace clr::scene {
 
@@ -14,6 +18,7 @@ class Environment {
  public:
   static Environment constant(const Rgb& radiance);
   static Environment envmap(const std::filesystem::path& path, float scale, const glm::mat4& to_world);
+  static Environment sunsky(const SunSky& model, const glm::mat4& to_world);
 
   // Radiance arriving from world direction `dir` (pointing away from the scene, towards the environment).
   Rgb eval(const Vec3& dir) const;
@@ -26,6 +31,11 @@ class Environment {
   float pdf(const Vec3& dir) const;
 
  private:
+  void set_to_world(const glm::mat4& to_world);
+  // The sampling table from pixels_: false where they are all black.
+  bool build_table();
+  Sample sample_table(const Vec2& u) const;
+  float pdf_table(const Vec3& dir) const;
   Vec2 to_uv(const Vec3& local) const;
   Rgb lookup(const Vec2& uv) const;     // bilinear, wrapping around in u, clamped at the poles
   float pixel_pdf(int x, int y) const;  // density in uv of the pixel (x, y)
@@ -39,7 +49,9 @@ class Environment {
   // to_world need not be a rotation (Mitsuba takes any matrix, a `rotate` about an axis not of unit length
   // included): directions are normalised after it, and the densities carry the Jacobian of that map of the sphere.
   glm::mat3 to_world_{1.0f}, to_local_{1.0f};
-  float jacobian_scale_ = 1;  // |det to_local|
+  float jacobian_scale_ = 1;              // |det to_local|
+  std::shared_ptr<const SunSky> sunsky_;  // analytic radiance; pixels_ hold its sky for the table
+  float sun_probability_ = 0;             // of drawing the sun's cone rather than the table
 };
 
 }  // namespace clr::scene

@@ -22,20 +22,21 @@ Environment Environment::constant(const Rgb& radiance) {
   return e;
 }
 
+void Environment::set_to_world(const glm::mat4& to_world) {
+  to_world_ = glm::mat3(to_world);
+  to_local_ = glm::inverse(to_world_);
+  jacobian_scale_ = std::fabs(glm::determinant(to_local_));
+}
+
 Environment Environment::envmap(const std::filesystem::path& path, float scale, const glm::mat4& to_world) {
   if (!std::filesystem::exists(path)) throw InputError(path.string() + ": environment map not found");
   const image::Image img = image::read_float_image(path);
   Environment e;
   e.width_ = img.width;
   e.height_ = img.height;
-  e.to_world_ = glm::mat3(to_world);
-  e.to_local_ = glm::inverse(e.to_world_);
-  e.jacobian_scale_ = std::fabs(glm::determinant(e.to_local_));
+  e.set_to_world(to_world);
   e.pixels_.resize(std::size_t(img.width) * std::size_t(img.height));
-  e.weights_.resize(e.pixels_.size());
-  double total = 0;
-  for (int y = 0; y < img.height; ++y) {
-    const float sin_theta = std::sin(kPi * (float(y) + 0.5f) / float(img.height));
+  for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       const std::size_t i = std::size_t(y) * std::size_t(img.width) + std::size_t(x);
       const Rgb c = scale * Rgb(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]);
@@ -45,31 +46,71 @@ Environment Environment::envmap(const std::filesystem::path& path, float scale, 
         throw InputError(path.string() + ": environment map has a negative pixel at (" + std::to_string(x) + ", " +
                          std::to_string(y) + ")");
       e.pixels_[i] = c;
-      e.weights_[i] = std::fmax(luminance(c), 0.0f) * sin_theta;
-      total += e.weights_[i];
+    }
+  if (!e.build_table()) throw InputError(path.string() + ": environment map is black");
+  return e;
+}
+
+Environment Environment::sunsky(const SunSky& model, const glm::mat4& to_world) {
+  Environment e;
+  e.set_to_world(to_world);
+  e.sunsky_ = std::make_shared<const SunSky>(model);
+  // The sky tabulated at texel centres for sampling only (eval is analytic): 0.35° texels hold the circumsolar peak.
+  e.width_ = 1024;
+  e.height_ = 512;
+  e.pixels_.resize(std::size_t(e.width_) * std::size_t(e.height_));
+  for (int y = 0; y < e.height_; ++y)
+    for (int x = 0; x < e.width_; ++x) {
+      const float phi = 2.0f * kPi * (float(x) + 0.5f) / float(e.width_),
+                  theta = kPi * (float(y) + 0.5f) / float(e.height_);
+      const Vec3 local(std::sin(phi) * std::sin(theta), std::cos(theta), -std::cos(phi) * std::sin(theta));
+      e.pixels_[std::size_t(y) * std::size_t(e.width_) + std::size_t(x)] = model.sky(local);
+    }
+  // The sun's share of the draws: its power against the sky's (luminance over solid angle).
+  double sky = 0;
+  for (int y = 0; y < e.height_; ++y) {
+    const double texel = std::sin(M_PI * (y + 0.5) / e.height_) * (2 * M_PI / e.width_) * (M_PI / e.height_);
+    for (int x = 0; x < e.width_; ++x)
+      sky += luminance(e.pixels_[std::size_t(y) * std::size_t(e.width_) + std::size_t(x)]) * texel;
+  }
+  const double sun = luminance(model.sun_radiance()) * model.sun_solid_angle();
+  const bool has_sky = e.build_table();
+  e.sun_probability_ = !has_sky ? 1.0f : sun + sky > 0 ? float(sun / (sun + sky)) : 0.0f;
+  return e;
+}
+
+bool Environment::build_table() {
+  weights_.resize(pixels_.size());
+  double total = 0;
+  for (int y = 0; y < height_; ++y) {
+    const float sin_theta = std::sin(kPi * (float(y) + 0.5f) / float(height_));
+    for (int x = 0; x < width_; ++x) {
+      const std::size_t i = std::size_t(y) * std::size_t(width_) + std::size_t(x);
+      weights_[i] = std::fmax(luminance(pixels_[i]), 0.0f) * sin_theta;
+      total += weights_[i];
     }
   }
-  if (!(total > 0)) throw InputError(path.string() + ": environment map is black");
-  const double mean = total / double(e.weights_.size());
-  for (auto& w : e.weights_) w = float(w / mean);
-  e.row_cdf_.assign(std::size_t(img.height) + 1, 0.0f);
-  e.column_cdf_.assign(std::size_t(img.height) * std::size_t(img.width + 1), 0.0f);
+  if (!(total > 0)) return false;
+  const double mean = total / double(weights_.size());
+  for (auto& w : weights_) w = float(w / mean);
+  row_cdf_.assign(std::size_t(height_) + 1, 0.0f);
+  column_cdf_.assign(std::size_t(height_) * std::size_t(width_ + 1), 0.0f);
   double rows = 0;
-  std::vector<double> row_sum(std::size_t(img.height), 0.0);
-  for (int y = 0; y < img.height; ++y) {
-    float* cdf = &e.column_cdf_[std::size_t(y) * std::size_t(img.width + 1)];
+  std::vector<double> row_sum(std::size_t(height_), 0.0);
+  for (int y = 0; y < height_; ++y) {
+    float* cdf = &column_cdf_[std::size_t(y) * std::size_t(width_ + 1)];
     double s = 0;
-    for (int x = 0; x < img.width; ++x) {
-      s += e.weights_[std::size_t(y) * std::size_t(img.width) + std::size_t(x)];
+    for (int x = 0; x < width_; ++x) {
+      s += weights_[std::size_t(y) * std::size_t(width_) + std::size_t(x)];
       cdf[x + 1] = float(s);
     }
-    for (int x = 1; x <= img.width; ++x) cdf[x] = s > 0 ? float(cdf[x] / s) : float(x) / float(img.width);
+    for (int x = 1; x <= width_; ++x) cdf[x] = s > 0 ? float(cdf[x] / s) : float(x) / float(width_);
     rows += s;
     row_sum[std::size_t(y)] = rows;
   }
-  for (int y = 0; y < img.height; ++y) e.row_cdf_[std::size_t(y) + 1] = float(row_sum[std::size_t(y)] / rows);
-  e.row_cdf_.back() = 1.0f;
-  return e;
+  for (int y = 0; y < height_; ++y) row_cdf_[std::size_t(y) + 1] = float(row_sum[std::size_t(y)] / rows);
+  row_cdf_.back() = 1.0f;
+  return true;
 }
 
 // Mitsuba's lat-long mapping: u = atan2(x, −z)/2π, v = acos(y)/π in the emitter's local frame, v = 0 the top row.
@@ -93,15 +134,32 @@ Rgb Environment::lookup(const Vec2& uv) const {
 }
 
 Rgb Environment::eval(const Vec3& dir) const {
+  if (sunsky_) {
+    const Vec3 local = glm::normalize(to_local_ * dir);
+    return sunsky_->sky(local) + sunsky_->sun(local);
+  }
   if (width_ == 0) return constant_;
   return lookup(to_uv(glm::normalize(to_local_ * dir)));
 }
 
 Environment::Sample Environment::sample(const Vec2& u) const {
+  if (sunsky_) {
+    Vec3 d;
+    if (u.x < sun_probability_) {
+      d = glm::normalize(to_world_ * sunsky_->sample_sun(Vec2(u.x / sun_probability_, u.y)));
+    } else {
+      d = sample_table(Vec2((u.x - sun_probability_) / (1.0f - sun_probability_), u.y)).dir;
+    }
+    return {d, eval(d), pdf(d)};
+  }
   if (width_ == 0) {
     const Vec3 d = sample_uniform_sphere(u);
     return {d, constant_, kUniformSpherePdf};
   }
+  return sample_table(u);
+}
+
+Environment::Sample Environment::sample_table(const Vec2& u) const {
   const auto [y, fy] = sample_cdf(row_cdf_.data(), height_, u.y);
   const auto [x, fx] = sample_cdf(&column_cdf_[std::size_t(y) * std::size_t(width_ + 1)], width_, u.x);
   const float su = (float(x) + fx) / float(width_), sv = (float(y) + fy) / float(height_);
@@ -119,7 +177,19 @@ Environment::Sample Environment::sample(const Vec2& u) const {
 }
 
 float Environment::pdf(const Vec3& dir) const {
+  if (sunsky_) {
+    float p = sun_probability_ < 1 ? (1.0f - sun_probability_) * pdf_table(dir) : 0.0f;
+    const Vec3 stretched = to_local_ * glm::normalize(dir);
+    const float length = glm::length(stretched);
+    if (sun_probability_ > 0 && sunsky_->in_sun(stretched / length))
+      p += float(double(sun_probability_) / sunsky_->sun_solid_angle()) * jacobian_scale_ / (length * length * length);
+    return p;
+  }
   if (width_ == 0) return kUniformSpherePdf;
+  return pdf_table(dir);
+}
+
+float Environment::pdf_table(const Vec3& dir) const {
   const Vec3 stretched = to_local_ * glm::normalize(dir);
   const float length = glm::length(stretched);
   const Vec3 local = stretched / length;

@@ -49,6 +49,7 @@ namespace clr::scene::loader {
   X("area", read_area)               \
   X("constant", read_constant)       \
   X("envmap", read_envmap)           \
+  X("sunsky", read_sunsky)           \
   X("point", read_point)             \
   X("spot", read_spot)               \
   X("directional", read_directional) \
