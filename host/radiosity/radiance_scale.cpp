@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace clr::radiosity {
 
@@ -18,17 +19,20 @@ float brightest_emission(const scene::Scene& scene) {
       const float z = 1.0f - 2.0f * (float(i) + 0.5f) / float(kDirections), r = std::sqrt(std::max(0.0f, 1 - z * z));
       const float phi = golden * float(i);
       const scene::Vec3 dir(r * std::cos(phi), r * std::sin(phi), z);
-      brightest = std::max(brightest, scene::max_component(scene.environment->eval(dir)));
+      brightest = std::max(brightest, scene::max_component(scene.environment->eval(dir, false)));
     }
   }
-  if (!scene.delta_lights.empty()) {
+  std::vector<scene::DeltaLight> lights = scene.delta_lights;
+  if (scene.environment)
+    if (auto sun = scene.environment->sun_as_directional()) lights.push_back(*sun);  // lit like a directional light
+  if (!lights.empty()) {
     // A delta light has no radiance of its own; what the network learns is the radiance of the surfaces it lights,
     // about ρ/π times the irradiance there. Taken at a typical distance, half the scene's bounding-box diagonal (a
     // unit has to be right within a few decades, not exactly).
     scene::Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     for (const auto& shape : scene.shapes) shape.extend_bounds(lo, hi);
     const float d = 0.5f * glm::length(hi - lo);
-    for (const auto& light : scene.delta_lights) {
+    for (const auto& light : lights) {
       float irradiance = scene::max_component(light.intensity);
       if (light.texture) irradiance *= scene::max_component(light.texture->mean());
       if (light.kind != scene::DeltaLight::Kind::directional) irradiance /= d * d;

@@ -11,14 +11,15 @@ void write_raw_row(const scene::Scene& scene, const geometry::SurfacePoint& p, c
   row[nn::raw::kRoughness] = bsdf.roughness();
 }
 
-PathEnd trace_to_surface(const geometry::Geometry& geometry, geometry::Ray ray, Pcg32& rng, int max_delta_bounces) {
+PathEnd trace_to_surface(const geometry::Geometry& geometry, geometry::Ray ray, Pcg32& rng, int max_delta_bounces,
+                         bool sun_on_first) {
   const scene::Scene& scene = geometry.scene();
   PathEnd end;
   for (int bounce = 0;; ++bounce) {
     const geometry::Hit hit = geometry.intersect(ray);
     const Vec3 wo = -glm::normalize(ray.direction);
     if (!hit.valid()) {
-      if (scene.environment) end.emitted += end.throughput * scene.environment->eval(-wo);
+      if (scene.environment) end.emitted += end.throughput * scene.environment->eval(-wo, sun_on_first || bounce > 0);
       return end;
     }
     const geometry::SurfacePoint p = geometry.surface(hit);

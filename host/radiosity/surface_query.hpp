@@ -27,7 +27,10 @@ struct PathEnd {
 
 // Follows `ray` until it escapes, lands on a surface with a non-delta lobe, or has made `max_delta_bounces`
 // delta bounces (then it ends dark: such long specular chains carry negligible energy in practice). Landing on
-// the black side of a one-sided surface ends the path without a lookup (at_surface false).
-PathEnd trace_to_surface(const geometry::Geometry& geometry, geometry::Ray ray, Pcg32& rng, int max_delta_bounces);
+// the black side of a one-sided surface ends the path without a lookup (at_surface false). `sun_on_first`: false
+// where the first segment was drawn from a non-delta lobe at a point that took a sunsky's sun by next-event estimation
+// (Environment::sun_as_directional): escaping there, it sees the sky only.
+PathEnd trace_to_surface(const geometry::Geometry& geometry, geometry::Ray ray, Pcg32& rng, int max_delta_bounces,
+                         bool sun_on_first = true);
 
 }  // namespace clr::radiosity

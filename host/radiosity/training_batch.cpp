@@ -74,7 +74,9 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
   batch.bsdf_pdf.assign(M * N, -1.0f);
   batch.lookup.assign(M * N, -1);
   batch.directions.assign(keep ? M * N * 3 : 0, 0.0f);
-  const bool delta_lights = !scene.delta_lights.empty();
+  const std::optional<scene::DeltaLight> sun =
+      scene.environment ? scene.environment->sun_as_directional() : std::nullopt;
+  const bool delta_lights = !scene.delta_lights.empty() || sun;
   batch.direct.assign(delta_lights ? M * 3 : 0, 0.0f);
   std::vector<std::uint8_t> from_guide(M * N, 0);
   // Every sample's would-be lookup row, compacted afterwards in sample order (deterministic).
@@ -91,7 +93,8 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
       const Vec3& wo = batch.wo[m];
       const scene::BsdfPoint bsdf = x.point.bsdf(scene);
       if (delta_lights) {
-        const Rgb d = geometry::reflected_delta_lights(geometry, x.point, bsdf, wo);
+        Rgb d = geometry::reflected_delta_lights(geometry, x.point, bsdf, wo);
+        if (sun) d += geometry::reflected_delta_light(geometry, x.point, bsdf, wo, *sun);
         std::copy_n(&d.x, 3, &batch.direct[3 * m]);
       }
       clock.lap(clock.delta);
@@ -119,8 +122,8 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
         if (keep) std::copy_n(&wi.x, 3, &batch.directions[3 * s]);
         clock.lap(clock.bsdf);
         if (fcos == Rgb(0.0f)) continue;
-        const PathEnd path =
-            trace_to_surface(geometry, {x.point.spawn_origin(wi), 0.0f, wi}, rng, settings.max_delta_bounces);
+        const PathEnd path = trace_to_surface(geometry, {x.point.spawn_origin(wi), 0.0f, wi}, rng,
+                                              settings.max_delta_bounces, delta || !sun);
         for (int ch = 0; ch < 3; ++ch) {
           batch.weight[3 * s + ch] = fcos[ch] * path.throughput[ch];
           batch.emitted[3 * s + ch] = fcos[ch] * path.emitted[ch];

@@ -7,8 +7,10 @@
 // disc's cone, each by its share of the power.
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <vector>
 
+#include "scene/delta_light.hpp"
 #include "scene/frame.hpp"
 #include "scene/sunsky.hpp"
 
@@ -20,8 +22,12 @@ class Environment {
   static Environment envmap(const std::filesystem::path& path, float scale, const glm::mat4& to_world);
   static Environment sunsky(const SunSky& model, const glm::mat4& to_world);
 
-  // Radiance arriving from world direction `dir` (pointing away from the scene, towards the environment).
-  Rgb eval(const Vec3& dir) const;
+  // Radiance arriving from world direction `dir` (pointing away from the scene, towards the environment); without a
+  // sunsky's sun where `sun` is false.
+  Rgb eval(const Vec3& dir, bool sun = true) const;
+  // A sunsky's sun as a directional light of its irradiance (nullopt: no sun): what training takes it as by
+  // next-event estimation, which no 0.27° disc hit by chance could replace (its radiance is ~10⁵ times the sky's).
+  std::optional<DeltaLight> sun_as_directional() const;
   struct Sample {
     Vec3 dir;
     Rgb radiance;

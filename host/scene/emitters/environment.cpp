@@ -133,13 +133,22 @@ Rgb Environment::lookup(const Vec2& uv) const {
   return (1.0f - ay) * ((1.0f - ax) * at(x0, y0) + ax * at(x1, y0)) + ay * ((1.0f - ax) * at(x0, y1) + ax * at(x1, y1));
 }
 
-Rgb Environment::eval(const Vec3& dir) const {
+Rgb Environment::eval(const Vec3& dir, bool sun) const {
   if (sunsky_) {
     const Vec3 local = glm::normalize(to_local_ * dir);
-    return sunsky_->sky(local) + sunsky_->sun(local);
+    return sun ? sunsky_->sky(local) + sunsky_->sun(local) : sunsky_->sky(local);
   }
   if (width_ == 0) return constant_;
   return lookup(to_uv(glm::normalize(to_local_ * dir)));
+}
+
+std::optional<DeltaLight> Environment::sun_as_directional() const {
+  if (!sunsky_ || is_black(sunsky_->sun_radiance()) || sunsky_->parameters().sun.z < 0) return std::nullopt;
+  DeltaLight l;
+  l.kind = DeltaLight::Kind::directional;
+  l.direction = -glm::normalize(to_world_ * sunsky_->parameters().sun);
+  l.intensity = sunsky_->sun_radiance() * float(sunsky_->sun_solid_angle());
+  return l;
 }
 
 Environment::Sample Environment::sample(const Vec2& u) const {
