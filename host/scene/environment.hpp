@@ -38,8 +38,8 @@ class Environment {
 
  private:
   void set_to_world(const glm::mat4& to_world);
-  // The sampling table from pixels_: false where they are all black.
-  bool build_table();
+  // The sampling table from pixels_; returns Σ luminance · sin θ over them (0: all black, no table).
+  double build_table();
   Sample sample_table(const Vec2& u) const;
   float pdf_table(const Vec3& dir) const;
   Vec2 to_uv(const Vec3& local) const;

@@ -38,7 +38,8 @@ class SunSky {
   bool up_ = false;  // the sun above the horizon
   double config_[3][9] = {};
   double radiance_[3] = {};
-  double radius_ = 0;  // the disc's angular radius
+  double radius_ = 0;      // the disc's angular radius
+  double sun_factor_ = 0;  // from the model's solar radiance to this disc's RGB radiance
   Rgb flat_sun_{0.0f};
 };
 

@@ -2,9 +2,9 @@
 // projector or, through its open top, a directional light), trained with the default settings for the same number
 // of steps as the bundled Cornell box and measured the same way; and the principled BSDF (scenes/principled.xml), the
 // exact cylinder and disk (scenes/exact-shapes.xml) and a sunsky (scenes/sunsky.xml, its sun taken as a directional
-// light) (MAPE of a 64×64 render against the path tracer). "Comparable to the Cornell box" is held as at most twice its MAPE: a
-// scene whose delta light the right-hand side missed renders black (MAPE near 1), one that learned only the direct term
-// loses the indirect half of the room.
+// light) (MAPE of a 64×64 render against the path tracer). "Comparable to the Cornell box" is held as at most twice
+// its MAPE: a scene whose delta light the right-hand side missed renders black (MAPE near 1), one that learned only the
+// direct term loses the indirect half of the room.
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -17,17 +17,27 @@ class Shapes : public SceneFiles {};
 
 TEST_F(Shapes, CylinderIsAnOpenTubeFromP0ToP1) {
   const auto s = scene::load_scene(scene(R"(<shape type="cylinder">
-    <point name="p0" value="1, 2, 3"/><point name="p1" value="1, 2, 7"/><float name="radius" value="0.5"/></shape>)"));
-  const auto& m = s.shapes[0].mesh;
-  EXPECT_NEAR(m.area(), 2 * scene::kPi * 0.5 * 4, 1e-3 * 2 * scene::kPi * 0.5 * 4);  // no caps
+    <point name="p0" value="1, 2, 3"/><point name="p1" value="1, 2, 7"/><float name="radius" value="0.5"/></shape>
+    <shape type="cylinder"><transform name="to_world"><scale x="2"/></transform></shape>)"));
+  ASSERT_TRUE(s.shapes[0].exact);  // exact (tests/geometry/exact_shapes_test.cpp)
+  EXPECT_NEAR(s.shapes[0].area(), 2 * scene::kPi * 0.5 * 4, 1e-6 * 2 * scene::kPi * 0.5 * 4);  // no caps
+  for (const float u : {0.0f, 0.3f, 0.7f})
+    for (const float v : {0.0f, 0.5f, 1.0f}) {
+      const Vec3 p = s.shapes[0].exact->position({u, v});
+      const Vec3 radial = p - Vec3(1, 2, p.z);
+      EXPECT_NEAR(glm::length(radial), 0.5f, 1e-5f);
+      EXPECT_NEAR(glm::dot(s.shapes[0].exact->normal({u, v}), radial / 0.5f), 1.0f, 1e-5f);  // facing out
+      EXPECT_NEAR(p.z, 3.0f + 4.0f * v, 1e-5f);
+    }
+  // An elliptic section is tessellated: its normals face out and the winding agrees with them.
+  const auto& m = s.shapes[1].mesh;
+  ASSERT_FALSE(m.triangles.empty());
   for (std::size_t i = 0; i < m.positions.size(); ++i) {
-    const Vec3 radial = m.positions[i] - Vec3(1, 2, m.positions[i].z);
-    EXPECT_NEAR(glm::length(radial), 0.5f, 1e-5f);
-    EXPECT_NEAR(glm::dot(m.normals[i], radial / 0.5f), 1.0f, 1e-5f);  // facing out
-    EXPECT_GE(m.positions[i].z, 3.0f - 1e-5f);
-    EXPECT_LE(m.positions[i].z, 7.0f + 1e-5f);
+    const Vec3 radial(m.positions[i].x, m.positions[i].y, 0);
+    EXPECT_GT(glm::dot(m.normals[i], radial), 0.0f);
+    EXPECT_GE(m.positions[i].z, -1e-5f);
+    EXPECT_LE(m.positions[i].z, 1.0f + 1e-5f);
   }
-  // The winding agrees with the normals.
   const auto t = m.triangles[0];
   const Vec3 face = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
   EXPECT_GT(glm::dot(face, m.normals[t.x]), 0.0f);

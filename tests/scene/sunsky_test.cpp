@@ -86,8 +86,7 @@ TEST_F(SunSkyTest, TheSunIsMitsubasDiscOfTheSamePower) {
   p.complex_sun = true;
   const SunSky limb(p);
   expect_rgb(limb.sun(at(30, 0)), {24459.28f, 19968.81f, 14074.65f}, 1e-4, "limb-darkened centre");
-  expect_rgb(limb.sun(at(30 + 0.5 * r, 0)), {22982.15f, 18534.08f, 12819.48f}, 2e-3,
-             "limb-darkened, half way out");
+  expect_rgb(limb.sun(at(30 + 0.5 * r, 0)), {22982.15f, 18534.08f, 12819.48f}, 2e-3, "limb-darkened, half way out");
   // Another aperture keeps the power: radiance × solid angle is unchanged.
   p.complex_sun = false;
   p.sun_aperture_deg = 2;

@@ -47,7 +47,7 @@ Environment Environment::envmap(const std::filesystem::path& path, float scale, 
                          std::to_string(y) + ")");
       e.pixels_[i] = c;
     }
-  if (!e.build_table()) throw InputError(path.string() + ": environment map is black");
+  if (!(e.build_table() > 0)) throw InputError(path.string() + ": environment map is black");
   return e;
 }
 
@@ -66,20 +66,15 @@ Environment Environment::sunsky(const SunSky& model, const glm::mat4& to_world) 
       const Vec3 local(std::sin(phi) * std::sin(theta), std::cos(theta), -std::cos(phi) * std::sin(theta));
       e.pixels_[std::size_t(y) * std::size_t(e.width_) + std::size_t(x)] = model.sky(local);
     }
-  // The sun's share of the draws: its power against the sky's (luminance over solid angle).
-  double sky = 0;
-  for (int y = 0; y < e.height_; ++y) {
-    const double texel = std::sin(M_PI * (y + 0.5) / e.height_) * (2 * M_PI / e.width_) * (M_PI / e.height_);
-    for (int x = 0; x < e.width_; ++x)
-      sky += luminance(e.pixels_[std::size_t(y) * std::size_t(e.width_) + std::size_t(x)]) * texel;
-  }
+  // The sun's share of the draws: its power against the sky's (luminance over solid angle; a texel spans
+  // 2π/width · π/height in φ and θ, times sin θ, which the table's weights hold).
+  const double sky = e.build_table() * (2 * M_PI / e.width_) * (M_PI / e.height_);
   const double sun = luminance(model.sun_radiance()) * model.sun_solid_angle();
-  const bool has_sky = e.build_table();
-  e.sun_probability_ = !has_sky ? 1.0f : sun + sky > 0 ? float(sun / (sun + sky)) : 0.0f;
+  e.sun_probability_ = !(sky > 0) ? 1.0f : float(sun / (sun + sky));
   return e;
 }
 
-bool Environment::build_table() {
+double Environment::build_table() {
   weights_.resize(pixels_.size());
   double total = 0;
   for (int y = 0; y < height_; ++y) {
@@ -90,7 +85,7 @@ bool Environment::build_table() {
       total += weights_[i];
     }
   }
-  if (!(total > 0)) return false;
+  if (!(total > 0)) return 0;
   const double mean = total / double(weights_.size());
   for (auto& w : weights_) w = float(w / mean);
   row_cdf_.assign(std::size_t(height_) + 1, 0.0f);
@@ -110,7 +105,7 @@ bool Environment::build_table() {
   }
   for (int y = 0; y < height_; ++y) row_cdf_[std::size_t(y) + 1] = float(row_sum[std::size_t(y)] / rows);
   row_cdf_.back() = 1.0f;
-  return true;
+  return total;
 }
 
 // Mitsuba's lat-long mapping: u = atan2(x, −z)/2π, v = acos(y)/π in the emitter's local frame, v = 0 the top row.

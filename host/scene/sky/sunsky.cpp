@@ -15,8 +15,10 @@ namespace hw = hosek_wilkie;
 // and scales the sun by a constant its authors left unexplained; both measured off Mitsuba 3.9.1 (docs/scenes.md).
 constexpr double kCieYNormalization = 1.0 / 106.7502593994140625;
 constexpr double kSunRgbConversion = 467.069280386;
-// The solar radius the solar radiance data were fitted for (and Mitsuba's default aperture is twice).
+// The solar radius the solar radiance data were fitted for (and Mitsuba's default aperture is twice), and its disc's
+// solid angle.
 constexpr double kSolarRadius = M_PI * (0.5 * 0.5358) / 180.0;
+const double kSolarSolidAngle = 2 * M_PI * (1 - std::cos(kSolarRadius));
 
 // The quintic Bézier over the six control points (stride apart) at x, as the model interpolates elevation.
 double bezier(const double* points, int stride, double x) {
@@ -26,8 +28,8 @@ double bezier(const double* points, int stride, double x) {
   return sum;
 }
 
-// A dataset's value at (turbidity, albedo, elevation parameter x): linear in turbidity and albedo, Bézier in x.
-// `block` is the size of one (albedo, turbidity) entry: 6 control points of `stride` values.
+// A dataset's value at (turbidity, albedo, elevation parameter x): linear in turbidity and albedo, Bézier in x. Each
+// (albedo, turbidity) entry holds six control points of `stride` values; `offset` picks the value within them.
 double cook(const double* data, int stride, double turbidity, double albedo, double x, int offset) {
   const int low = std::clamp(int(turbidity), 1, 10);
   const double frac = turbidity - low;
@@ -80,6 +82,9 @@ SunSky::SunSky(const SunSkyParameters& p) : p_(p) {
   const double eta = elevation(p.sun);
   up_ = eta >= 0;
   radius_ = double(p.sun_aperture_deg) * M_PI / 360.0;
+  // Mitsuba's scale of the sun, and the ratio of the fitted disc's solid angle to this one's, so that another
+  // aperture keeps the power.
+  sun_factor_ = kSunRgbConversion * kCieYNormalization * double(p.sun_scale) * kSolarSolidAngle / sun_solid_angle();
   if (!up_) return;
   const double x = std::min(std::cbrt(2 * eta / M_PI), 1 - 1e-7);
   for (int c = 0; c < 3; ++c) {
@@ -87,8 +92,7 @@ SunSky::SunSky(const SunSkyParameters& p) : p_(p) {
     radiance_[c] = cook(hw::kSkyRgbRadiance[c], 1, p.turbidity, p.albedo[c], x, 0);
   }
   // The flat disc carries the limb-darkened disc's power: its radiance integrated over the fitted solar radius
-  // (Gauss–Legendre in the angle from the centre, midpoints around it) over that solid angle, then scaled by the
-  // ratio of the two discs' solid angles so that another aperture keeps the power.
+  // (Gauss–Legendre in the angle from the centre, midpoints around it), over that solid angle.
   constexpr int kRadial = 32, kAround = 64;
   constexpr double kNodes[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
                                 0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
@@ -109,9 +113,7 @@ SunSky::SunSky(const SunSkyParameters& p) : p_(p) {
         integral += glm::dvec3(complex_sun_rgb(p.turbidity, elevation(d), cos_psi)) * w_gamma * (2 * M_PI / kAround);
       }
     }
-  const double solid_angle = 2 * M_PI * (1 - std::cos(kSolarRadius));
-  flat_sun_ = Rgb(integral / solid_angle * (kSunRgbConversion * kCieYNormalization * double(p.sun_scale)) *
-                  (solid_angle / sun_solid_angle()));
+  flat_sun_ = Rgb(integral / kSolarSolidAngle * sun_factor_);
 }
 
 Rgb SunSky::sky(const Vec3& d) const {
@@ -148,9 +150,7 @@ Vec3 SunSky::sample_sun(const Vec2& u) const {
 Rgb SunSky::limb_darkened_sun(const Vec3& d) const {
   const glm::dvec3 c = glm::cross(glm::dvec3(glm::normalize(d)), glm::dvec3(p_.sun));
   const double cos_psi = std::sqrt(std::max(0.0, 1 - glm::dot(c, c) / std::pow(std::sin(radius_), 2)));
-  const double solid_angle = 2 * M_PI * (1 - std::cos(kSolarRadius));
-  return complex_sun_rgb(p_.turbidity, elevation(d), cos_psi) *
-         float(kSunRgbConversion * kCieYNormalization * double(p_.sun_scale) * solid_angle / sun_solid_angle());
+  return complex_sun_rgb(p_.turbidity, elevation(d), cos_psi) * float(sun_factor_);
 }
 
 Rgb SunSky::sun(const Vec3& d) const {
