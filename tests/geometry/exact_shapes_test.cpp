@@ -110,6 +110,20 @@ TEST_F(ExactShapes, KeptExactWhereTheShapeStaysWhatMitsubaModels) {
   EXPECT_EQ(triangles, 0u);
 }
 
+// Scales whose product underflows a float determinant (1e-10 in the group, 1e-10 in the instance: 1e-60) stay exact
+// shapes of the right size, not a refusal or a crash.
+TEST_F(ExactShapes, TinyNestedScalesStayExact) {
+  const auto s = scene::load_scene(scene(R"(
+    <shape type="shapegroup" id="g">
+      <shape type="disk"><transform name="to_world"><scale value="1e-10"/></transform></shape>
+      <shape type="cylinder"><transform name="to_world"><scale value="1e-10"/></transform></shape></shape>
+    <shape type="instance"><ref id="g"/><transform name="to_world"><scale value="1e-10"/></transform></shape>)"));
+  ASSERT_EQ(s.shapes.size(), 2u);
+  ASSERT_TRUE(s.shapes[0].exact && s.shapes[1].exact);
+  EXPECT_NEAR(s.shapes[0].area() / (M_PI * 1e-40), 1.0, 1e-5);
+  EXPECT_NEAR(s.shapes[1].area() / (2 * M_PI * 1e-40), 1.0, 1e-5);
+}
+
 // Rays meet the tube at the analytic distance from outside and (its inside being open) from inside, miss it past its
 // ends and along its axis, and hit a stretched disk inside its ellipse only; uv as Mitsuba's: the tube's (φ/2π, z)
 // from Mitsuba's frame of the axis, the disk's (r, φ/2π).

@@ -494,6 +494,7 @@ class Loader final : public loader::Context {
           n.fail("the shape reaches beyond ±1e12, farther than single-precision ray tracing can resolve");
         return;
       }
+      if (s.exact->kind == ExactShape::Kind::disk) n.fail("the disk's to_world is singular (a zero scale?)");
       s.mesh = tessellate(s.exact->kind);
       s.mesh.transform(s.exact->to_world());
       if (s.exact->flip) s.mesh.flip();

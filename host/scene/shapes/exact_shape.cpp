@@ -67,7 +67,7 @@ bool orthogonal(const Vec3& a, const Vec3& b, bool equal) {
 
 std::optional<ExactShape> ExactShape::from(Kind kind, const glm::mat4& to_world, bool flip) {
   const glm::mat3 m(to_world);
-  if (!(std::fabs(glm::determinant(m)) > 0)) return std::nullopt;
+  if (!(std::fabs(glm::determinant(glm::dmat3(m))) > 0)) return std::nullopt;  // in double: tiny scales underflow
   switch (kind) {
     case Kind::sphere:  // a similarity
       if (!orthogonal(m[0], m[1], true) || !orthogonal(m[0], m[2], true) || !orthogonal(m[1], m[2], true))
