@@ -186,6 +186,13 @@ TEST_F(SunSkyTest, TheLoaderPlacesTheSunAndRefusesWhatMitsubaRefuses) {
       EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
     }
   }
+  // Its sibling that averages the sun over days and hours is refused by name.
+  try {
+    scene::load_scene(scene(R"(<emitter type="timed_sunsky"/>)"));
+    ADD_FAILURE() << "timed_sunsky was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("timed_sunsky (a sun averaged"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -624,6 +624,7 @@ class Loader final : public loader::Context {
   loader::EmitterPlugin emitter_plugin(const Node& n) {
     const Props p(n);
     const std::string type = p.type();
+    if (const char* why = loader::refused_plugin("emitter", type)) n.fail(why);
     const auto reader = loader::emitter_reader(type);
     if (!reader) n.fail("unsupported emitter type '" + type + "'");
     AttributeUses uses;

@@ -114,6 +114,8 @@ const char* refused_plugin(const std::string& kind, const std::string& type) {
       {"bsdf", "retarder", "polarization is not modelled (radiance is unpolarized RGB)"},
       {"bsdf", "measured_polarized", "polarization is not modelled (radiance is unpolarized RGB)"},
       {"integrator", "stokes", "polarization is not modelled (radiance is unpolarized RGB)"},
+      {"emitter", "timed_sunsky",
+       "timed_sunsky (a sun averaged over days and hours by each ray's time) is not modelled: use sunsky at one time"},
       {"phase", "*", "participating media are not modelled: radiosity is surface-only"},
       {"medium", "*", "participating media are not modelled: radiosity is surface-only"},
       {"texture", "volume",
