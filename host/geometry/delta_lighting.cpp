@@ -26,9 +26,9 @@ Rgb reflected_delta_light(const Geometry& geometry, const SurfacePoint& p, const
 }
 
 Rgb reflected_delta_lights(const Geometry& geometry, const SurfacePoint& p, const scene::BsdfPoint& bsdf,
-                           const Vec3& wo) {
+                           const Vec3& wo, std::span<const scene::DeltaLight> lights) {
   Rgb sum(0.0f);
-  for (const auto& light : geometry.scene().delta_lights) sum += reflected_delta_light(geometry, p, bsdf, wo, light);
+  for (const auto& light : lights) sum += reflected_delta_light(geometry, p, bsdf, wo, light);
   return sum;
 }
 

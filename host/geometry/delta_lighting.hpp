@@ -3,6 +3,8 @@
 // sampled at random ever reaches them, so both the reference path tracer (one light chosen per vertex) and the
 // training batch (every light, added to the right-hand side as a constant) take them by next-event estimation
 // through this one function, with the same shadow ray.
+#include <span>
+
 #include "geometry/geometry.hpp"
 #include "scene/delta_light.hpp"
 
@@ -13,8 +15,8 @@ namespace clr::geometry {
 Rgb reflected_delta_light(const Geometry& geometry, const SurfacePoint& p, const scene::BsdfPoint& bsdf, const Vec3& wo,
                           const scene::DeltaLight& light, std::uint64_t* rays = nullptr);
 
-// The sum over all of the scene's delta lights.
+// The sum over `lights` (the training's: radiosity/training_lights.hpp).
 Rgb reflected_delta_lights(const Geometry& geometry, const SurfacePoint& p, const scene::BsdfPoint& bsdf,
-                           const Vec3& wo);
+                           const Vec3& wo, std::span<const scene::DeltaLight> lights);
 
 }  // namespace clr::geometry

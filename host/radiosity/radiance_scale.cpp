@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <vector>
+
+#include "radiosity/training_lights.hpp"
 
 namespace clr::radiosity {
 
@@ -22,10 +23,7 @@ float brightest_emission(const scene::Scene& scene) {
       brightest = std::max(brightest, scene::max_component(scene.environment->eval(dir, false)));
     }
   }
-  std::vector<scene::DeltaLight> lights = scene.delta_lights;
-  if (scene.environment)
-    if (auto sun = scene.environment->sun_as_directional()) lights.push_back(*sun);  // lit like a directional light
-  if (!lights.empty()) {
+  if (const auto lights = training_delta_lights(scene); !lights.empty()) {
     // A delta light has no radiance of its own; what the network learns is the radiance of the surfaces it lights,
     // about ρ/π times the irradiance there. Taken at a typical distance, half the scene's bounding-box diagonal (a
     // unit has to be right within a few decades, not exactly).

@@ -6,6 +6,7 @@
 
 #include "common/parallel.hpp"
 #include "geometry/delta_lighting.hpp"
+#include "radiosity/training_lights.hpp"
 
 namespace clr::radiosity {
 namespace {
@@ -74,9 +75,10 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
   batch.bsdf_pdf.assign(M * N, -1.0f);
   batch.lookup.assign(M * N, -1);
   batch.directions.assign(keep ? M * N * 3 : 0, 0.0f);
-  const std::optional<scene::DeltaLight> sun =
-      scene.environment ? scene.environment->sun_as_directional() : std::nullopt;
-  const bool delta_lights = !scene.delta_lights.empty() || sun;
+  const std::vector<scene::DeltaLight> lights = training_delta_lights(scene);
+  const bool delta_lights = !lights.empty();
+  // A first segment from a non-delta lobe escaping into the sun would count it twice: it is in the direct term.
+  const bool sun = scene.environment && scene.environment->sun_as_directional();
   batch.direct.assign(delta_lights ? M * 3 : 0, 0.0f);
   std::vector<std::uint8_t> from_guide(M * N, 0);
   // Every sample's would-be lookup row, compacted afterwards in sample order (deterministic).
@@ -93,8 +95,7 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
       const Vec3& wo = batch.wo[m];
       const scene::BsdfPoint bsdf = x.point.bsdf(scene);
       if (delta_lights) {
-        Rgb d = geometry::reflected_delta_lights(geometry, x.point, bsdf, wo);
-        if (sun) d += geometry::reflected_delta_light(geometry, x.point, bsdf, wo, *sun);
+        const Rgb d = geometry::reflected_delta_lights(geometry, x.point, bsdf, wo, lights);
         std::copy_n(&d.x, 3, &batch.direct[3 * m]);
       }
       clock.lap(clock.delta);

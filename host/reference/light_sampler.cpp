@@ -30,9 +30,10 @@ scene::Vec2 uv_in_cone(const scene::ExactShape& s, const Vec3& from, double widt
   const glm::dvec3 dir = glm::normalize(
       glm::dvec3(frame.to_world(Vec3(float(sin_t * std::cos(phi)), float(sin_t * std::sin(phi)), float(cos_t)))));
   const glm::dvec3 oc = glm::dvec3(from) - glm::dvec3(s.origin);
-  const double b = glm::dot(oc, dir), c = glm::dot(oc, oc) - double(s.radius()) * s.radius();
-  const double t = -b - std::sqrt(std::fmax(0.0, b * b - c));
-  return s.uv(oc + t * dir);
+  const double o[3] = {from.x, from.y, from.z}, d[3] = {dir.x, dir.y, dir.z};
+  double t[2];
+  // A direction at the cone's rim may graze past by rounding: then its closest approach, on the rim.
+  return s.uv(oc + (s.crossings(o, d, t) > 0 ? t[0] : -glm::dot(oc, dir)) * dir);
 }
 
 }  // namespace
