@@ -32,11 +32,10 @@ inline void print_stages(const char* label, const radiosity::HostStageTimes& t, 
   const double n = double(t.steps ? t.steps : 1), ms = 1e3 / n;
   std::printf(
       "  %-16s per step: wall %.2f ms | device busy %.2f ms | host work %.2f ms = points %.2f + incident loop %.2f "
-      "(thread-ms: BSDF %.2f, tracing %.2f, delta lights %.2f) + packing %.2f + uploads %.2f | waiting for the "
+      "(thread-ms: BSDF %.2f, tracing %.2f, next events %.2f) + packing %.2f + uploads %.2f | waiting for the "
       "device: guided directions %.2f, pinned memory %.2f ms | %s\n",
       label, wall_s * ms, device_s * ms, t.host_work() * ms, t.points * ms, t.incident * ms, t.bsdf_cpu * ms,
-      t.tracing_cpu * ms, t.delta_lights_cpu * ms, t.packing * ms, t.uploads * ms, t.guide_read * ms,
-      t.device_wait * ms,
+      t.tracing_cpu * ms, t.next_event_cpu * ms, t.packing * ms, t.uploads * ms, t.guide_read * ms, t.device_wait * ms,
       t.host_work() > device_s ? "host-bound (host work > device busy)" : "device-bound (device busy >= host work)");
 }
 

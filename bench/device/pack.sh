@@ -2,16 +2,27 @@
 # Packs what bench/gpu_acceptance.sh needs into one archive for a machine that has a GPU driver but neither network
 # nor this project's build dependencies (docs/nvidia.md, "On a bare GPU machine"):
 #
-#   bench/device/pack.sh [BUNDLE]     (default out/device/bundle.tar.xz)
+#   bench/device/pack.sh [--paper] [BUNDLE]     (default out/device/bundle.tar.xz)
 #
 # The archive holds the acceptance binaries of BUILD_DIR (default build/ci), stripped, in the build tree's layout,
 # every shared library they load except the C runtime's (Embree, OpenEXR, CLBlast, the ICD loader, ...: Debian 12's),
 # and the source folder the binaries were built in (they read scenes through that compiled-in path).
 # bench/device/run.sh unpacks it there. Needs the binaries built (cmake --workflow --preset ci).
+#
+# --paper adds the shared scenes of `run.sh --paper` (staircase and veach-ajar from CLR_SHARED_SCENES, default
+# ../shared/scenes; their TungstenRender.png left out): the ../shared beside a checkout does not travel to a device
+# machine, and the working tree that does is limited to 64 MiB. They add about 20 MB to the archive's 22.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${BUILD_DIR:-$root/build/ci}
+paper=false
+if [ "${1:-}" = --paper ]; then
+  paper=true
+  shift
+fi
 bundle=${1:-$root/out/device/bundle.tar.xz}
+scenes=${CLR_SHARED_SCENES:-$root/../shared/scenes}
+paper_scenes=(staircase veach-ajar)
 binaries=(clradiosity tests/clr_tests bench/bench_nn bench/bench_guide bench/bench_pipeline)
 stage=$(mktemp -d)
 trap 'rm -rf "$stage"' EXIT
@@ -30,7 +41,18 @@ for b in "${binaries[@]}"; do ldd "$build/$b"; done | awk '/=> \// {print $3}' |
   esac
 done
 echo "$root" >"$stage/source_dir"
+parts=(build lib source_dir)
+if $paper; then
+  for s in "${paper_scenes[@]}"; do
+    [ -f "$scenes/$s/scene.xml" ] || { echo "pack: no $scenes/$s/scene.xml (CLR_SHARED_SCENES)" >&2; exit 2; }
+  done
+  mkdir -p "$stage/scenes"
+  tar -C "$scenes" -cf - --exclude=TungstenRender.png --exclude=.DS_Store "${paper_scenes[@]}" |
+    tar -C "$stage/scenes" -xf -
+  chmod -R u+w "$stage/scenes"  # the shared folder is read-only: the trap here, and run.sh, remove the copies
+  parts+=(scenes)
+fi
 mkdir -p "$(dirname "$bundle")"
-tar -C "$stage" -cf - build lib source_dir | xz -T0 -3 >"$bundle.tmp"
+tar -C "$stage" -cf - "${parts[@]}" | xz -T0 -3 >"$bundle.tmp"
 mv "$bundle.tmp" "$bundle"
 echo "$bundle: $(du -h "$bundle" | cut -f1)"

@@ -3,15 +3,27 @@
 # of bench/device/pack.sh: unpacks it, registers the NVIDIA OpenCL driver with the packed ICD loader, and runs
 # bench/gpu_acceptance.sh on the GPU (docs/nvidia.md):
 #
-#   bench/device/run.sh BUNDLE OUT_DIR [DEVICE]     (DEVICE default nvidia)
+#   bench/device/run.sh [--paper] BUNDLE OUT_DIR [DEVICE]     (DEVICE default nvidia)
+#
+# --paper sets PAPER=1: after the acceptance figures, the paper's runs on Wooden Staircase and Veach Ajar (the header
+# of gpu_acceptance.sh), the whole within PAPER_BUDGET_S (default 540 s, counted from this script's start, the
+# unpacking included) so that it fits one 10-minute device call. Their scenes come from the bundle where
+# `bench/device/pack.sh --paper` packed them (the ../shared beside a checkout does not travel to a device machine),
+# else from CLR_SHARED_SCENES.
 #
 # or, for a measurement of its own in the same setting, runs COMMAND with BUILD_DIR set to the unpacked build tree
 # (e.g. "$BUILD_DIR"/bench/bench_nn --device nvidia):
 #
 #   bench/device/run.sh --exec BUNDLE COMMAND...
 set -uo pipefail
-usage="usage: bench/device/run.sh BUNDLE OUT_DIR [DEVICE] | bench/device/run.sh --exec BUNDLE COMMAND..."
+# The paper mode's budget starts here.
+export PAPER_START=${PAPER_START:-$(date +%s)}
+usage="usage: bench/device/run.sh [--paper] BUNDLE OUT_DIR [DEVICE] | bench/device/run.sh --exec BUNDLE COMMAND..."
 exec_mode=false
+if [ "${1:-}" = --paper ]; then
+  export PAPER=1
+  shift
+fi
 if [ "${1:-}" = --exec ]; then
   exec_mode=true
   shift
@@ -25,7 +37,12 @@ fi
 root=$(cd "$(dirname "$0")/../.." && pwd)
 unpacked=$(mktemp -d)
 trap 'rm -rf "$unpacked"' EXIT
+[ -f "$bundle" ] || { echo "run: no bundle at $bundle (bench/device/pack.sh makes it)" >&2; exit 2; }
 tar -C "$unpacked" -xJf "$bundle" || { echo "run: cannot unpack $bundle" >&2; exit 2; }
+# The paper's scenes, where the bundle carries them and CLR_SHARED_SCENES names no folder of its own.
+if [ -d "$unpacked/scenes" ] && [ ! -d "${CLR_SHARED_SCENES:-/nonexistent}" ]; then
+  export CLR_SHARED_SCENES=$unpacked/scenes
+fi
 # The binaries read scenes through the source folder they were built in: point that path at this checkout.
 source_dir=$(cat "$unpacked/source_dir")
 if [ ! -e "$source_dir" ]; then

@@ -1,4 +1,5 @@
-// clradiosity residual SCENE.xml --model RUN_DIR [--points P --samples S] [--sampling bsdf|guide] [--json]
+// clradiosity residual SCENE.xml --model RUN_DIR [--points P --samples S] [--sampling bsdf|guide] [--nee on|off]
+//                     [--json]
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -17,7 +18,7 @@ namespace clr::cli {
 
 Command add_residual_command(CLI::App& app) {
   struct Options {
-    std::string scene, model, device, sampling = "bsdf";
+    std::string scene, model, device, sampling = "bsdf", nee;
     std::map<std::string, std::string> parameters;
     float bsdf_fraction = -1;
     std::size_t points = 1 << 16, samples = 256;
@@ -35,6 +36,10 @@ Command add_residual_command(CLI::App& app) {
       ->check(CLI::IsMember({"bsdf", "guide"}));
   cmd->add_option("--bsdf-fraction", opt->bsdf_fraction, "BSDF share of the guided mixture (default: the run's)")
       ->check(finite_in(0, 1, true));
+  cmd->add_option("--nee", opt->nee,
+                  "Next-event estimation of area lights and the environment beside the directions, as training draws "
+                  "it: on or off (default: the run's setting)")
+      ->check(CLI::IsMember({"on", "off"}));
   cmd->add_option("--seed", opt->seed, "Random seed")->check(integer_at_least(0));
   cmd->add_flag("--json", opt->json, "Print one JSON object");
   add_device_option(*cmd, opt->device);
@@ -48,26 +53,31 @@ Command add_residual_command(CLI::App& app) {
             const std::filesystem::path model = opt->model;
             auto network = radiosity::RunDirectory::load_radiance(ctx, model);
             std::unique_ptr<nn::Network> guide;
+            const auto run = std::filesystem::is_directory(model) ? model : model.parent_path();
+            const radiosity::TrainConfig config = radiosity::RunDirectory::load_config(run);
             float fraction = opt->bsdf_fraction;
             if (opt->sampling == "guide") {
-              const auto run = std::filesystem::is_directory(model) ? model : model.parent_path();
               guide = radiosity::RunDirectory::load_guide(ctx, run);
-              if (fraction < 0) fraction = float(radiosity::RunDirectory::load_config(run).bsdf_fraction);
+              if (fraction < 0) fraction = float(config.bsdf_fraction);
             }
+            const bool nee = opt->nee.empty() ? config.nee : opt->nee == "on";
             const auto r = radiosity::measure_residual(ctx, geometry, *network, opt->points, opt->samples, opt->seed,
-                                                       guide.get(), fraction);
+                                                       guide.get(), fraction, nee);
             if (opt->json)
               std::cout << nlohmann::json{{"residual", r.mean},
                                           {"standard_error", r.standard_error},
                                           {"rhs_variance", r.rhs_variance},
                                           {"sampling", opt->sampling},
+                                          {"nee", nee},
                                           {"points", r.points},
                                           {"samples", opt->samples}}
                                .dump()
                         << "\n";
             else
-              std::printf("residual %.6g ± %.2g, one-sample RHS variance %.6g (P = %zu, S = %zu, %s sampling)\n",
-                          r.mean, r.standard_error, r.rhs_variance, r.points, opt->samples, opt->sampling.c_str());
+              std::printf(
+                  "residual %.6g ± %.2g, one-sample RHS variance %.6g (P = %zu, S = %zu, %s sampling, NEE %s)\n",
+                  r.mean, r.standard_error, r.rhs_variance, r.points, opt->samples, opt->sampling.c_str(),
+                  nee ? "on" : "off");
             return 0;
           }};
 }

@@ -12,7 +12,7 @@
 namespace clr::cli {
 Command add_train_command(CLI::App& app) {
   struct Options {
-    std::string scene, run_dir, config_file, device, method, is_loss, residual, gemm, preset, preview;
+    std::string scene, run_dir, config_file, device, method, is_loss, residual, nee, gemm, preset, preview;
     std::map<std::string, std::string> parameters;
     int sensor = 0;
     int samples = 0, batch = 0;
@@ -52,6 +52,10 @@ Command add_train_command(CLI::App& app) {
   cmd->add_option("--residual", opt->residual,
                   "relative (default; fades to l2 by the end of the budget, see relative_fade_end) or l2")
       ->check(CLI::IsMember({"relative", "l2"}));
+  cmd->add_option("--nee", opt->nee,
+                  "on (default): next-event estimation of area lights and the environment, with MIS, in the "
+                  "right-hand side; off: the paper's estimator, emitters found by the sampled directions alone")
+      ->check(CLI::IsMember({"on", "off"}));
   cmd->add_option("--gemm", opt->gemm,
                   "Matrix-product backend: auto (timed probe, cached; TF32 tensor cores where faster and within their "
                   "bound), fp32 (the same without TF32), own, clblast")
@@ -113,6 +117,7 @@ Command add_train_command(CLI::App& app) {
             request.settings = [opt, given = request.given](radiosity::TrainConfig& config) {
               if (!opt->method.empty()) config.method = radiosity::parse_method(opt->method, "--method");
               if (!opt->residual.empty()) config.residual = radiosity::parse_residual(opt->residual, "--residual");
+              if (!opt->nee.empty()) config.nee = opt->nee == "on";
               if (!opt->is_loss.empty()) config.is_loss = radiosity::parse_is_loss(opt->is_loss, "--is-loss");
               if (given("--samples")) config.samples = opt->samples;
               if (given("--batch")) config.batch = opt->batch;

@@ -80,6 +80,7 @@ std::vector<std::string> apply_paper(TrainConfig& config, const cl::DeviceInfo& 
   }
   config.batch = P::batch;
   config.samples = P::samples;
+  config.residual = Residual::L2;
   config.network["width"] = P::width;
   config.network["adam"]["learning_rate"] = P::learning_rate;
   config.guide["adam"]["learning_rate"] = P::learning_rate;
@@ -89,14 +90,15 @@ std::vector<std::string> apply_paper(TrainConfig& config, const cl::DeviceInfo& 
                                        {"log2_table", P::log2_table},
                                        {"base_resolution", P::base_resolution},
                                        {"growth", growth}};
-  std::snprintf(line, sizeof line,
-                "N-Module width %zu, N = %d, Adam %g for both modules (ISNR §4.3, §5.1); batch %d, which the paper "
-                "does not state (docs/presets.md: why this one)%s",
-                P::width, P::samples, P::learning_rate, P::batch,
-                device.type == cl::DeviceType::Gpu
-                    ? ""
-                    : "; on a CPU device these GPU-scale settings make steps of seconds (for CPU scale, train without "
-                      "the preset)");
+  std::snprintf(
+      line, sizeof line,
+      "N-Module width %zu, N = %d, Adam %g for both modules, the plain L2 residual (ISNR §4.3, §5.1, Eq. 10); "
+      "batch %d, which the paper does not state (docs/presets.md: why this one)%s",
+      P::width, P::samples, P::learning_rate, P::batch,
+      device.type == cl::DeviceType::Gpu
+          ? ""
+          : "; on a CPU device these GPU-scale settings make steps of seconds (for CPU scale, train without "
+            "the preset)");
   why.emplace_back(line);
   std::snprintf(line, sizeof line,
                 "hash grid of the cited work (Müller et al. 2022): %zu levels x %zu features, 2^%zu entries, "

@@ -8,7 +8,7 @@
 namespace clr::radiosity {
 
 void estimate_rhs(cl::Context& ctx, const geometry::Geometry& geometry, nn::Network& network, std::size_t points,
-                  std::size_t samples, std::uint64_t seed, nn::Network* guide, float bsdf_fraction,
+                  std::size_t samples, std::uint64_t seed, nn::Network* guide, float bsdf_fraction, bool next_event,
                   const std::function<void(const RhsPoint&)>& visit) {
   const geometry::SurfaceSampler sampler(geometry.scene());
   const std::size_t chunk = std::max<std::size_t>(1, std::min<std::size_t>(points, (1u << 18) / samples));
@@ -16,7 +16,8 @@ void estimate_rhs(cl::Context& ctx, const geometry::Geometry& geometry, nn::Netw
   TrainingBatch batch;
   std::size_t done = 0;
   for (std::uint64_t c = 0; done < points; ++c) {
-    BatchSettings settings{std::min(chunk, points - done), samples, 8, guide ? bsdf_fraction : 1.0f, guide != nullptr};
+    BatchSettings settings{std::min(chunk, points - done), samples,          8,
+                           guide ? bsdf_fraction : 1.0f,   guide != nullptr, next_event};
     // A stream of its own (step index past any training run's), so the metric never reuses training samples.
     const std::uint64_t step = (1ull << 62) + c;
     sample_training_points(sampler, geometry.scene(), settings, seed, step, batch);
@@ -36,19 +37,25 @@ void estimate_rhs(cl::Context& ctx, const geometry::Geometry& geometry, nn::Netw
     for (std::size_t m = 0; m < M; ++m) {
       RhsPoint point;
       for (std::size_t ch = 0; ch < 3; ++ch) {
-        double s1 = 0, s2 = 0;
+        // A sample's term with its light sample (whose mean is in `direct`), so that their variance counts too.
+        double s1 = 0, s2 = 0, light = 0;
         for (std::size_t n = 0; n < samples; ++n) {
           const std::size_t s = m * samples + n;
           double term = batch.emitted[3 * s + ch];
           if (batch.lookup[s] >= 0) term += double(batch.weight[3 * s + ch]) * L[3 * std::size_t(batch.lookup[s]) + ch];
           term /= pdf[s];
+          if (!batch.light.empty()) {
+            light += batch.light[3 * s + ch];
+            term += batch.light[3 * s + ch];
+          }
           if (!std::isfinite(term)) continue;
           s1 += term;
           s2 += term * term;
         }
         point.prediction[ch] = p[3 * m + ch];
         // Delta lights' next-event term: a constant per point, so it adds to the mean and not to the variance.
-        point.mean[ch] = s1 / double(samples) + (batch.direct.empty() ? 0.0 : double(batch.direct[3 * m + ch]));
+        const double delta = batch.direct.empty() ? 0.0 : batch.direct[3 * m + ch] - light / double(samples);
+        point.mean[ch] = s1 / double(samples) + delta;
         point.variance[ch] =
             samples > 1 ? std::max(0.0, s2 - double(samples) * point.mean[ch] * point.mean[ch]) / double(samples - 1)
                         : 0.0;
@@ -61,10 +68,10 @@ void estimate_rhs(cl::Context& ctx, const geometry::Geometry& geometry, nn::Netw
 
 ResidualStats measure_residual(cl::Context& ctx, const geometry::Geometry& geometry, nn::Network& network,
                                std::size_t points, std::size_t samples, std::uint64_t seed, nn::Network* guide,
-                               float bsdf_fraction) {
+                               float bsdf_fraction, bool next_event) {
   double sum = 0, sum_sq = 0, variance = 0;
   std::size_t done = 0;
-  estimate_rhs(ctx, geometry, network, points, samples, seed, guide, bsdf_fraction, [&](const RhsPoint& p) {
+  estimate_rhs(ctx, geometry, network, points, samples, seed, guide, bsdf_fraction, next_event, [&](const RhsPoint& p) {
     double r2 = 0;
     for (std::size_t ch = 0; ch < 3; ++ch) {
       r2 += std::pow(p.prediction[ch] - p.mean[ch], 2) / 3.0;

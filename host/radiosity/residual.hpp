@@ -29,13 +29,14 @@ struct RhsPoint {
 // Visits P random (x, ω_o) points' estimates, in chunks that bound memory whatever P·S is. Points depend only on
 // (seed, index): the same points under either sampling. `guide` null: BSDF sampling; else the mixture with BSDF
 // share `bsdf_fraction`.
+// `next_event`: with the light samples of training's next-event estimation (TrainConfig::nee) beside the directions.
 void estimate_rhs(cl::Context& ctx, const geometry::Geometry& geometry, nn::Network& network, std::size_t points,
-                  std::size_t samples, std::uint64_t seed, nn::Network* guide, float bsdf_fraction,
+                  std::size_t samples, std::uint64_t seed, nn::Network* guide, float bsdf_fraction, bool next_event,
                   const std::function<void(const RhsPoint&)>& visit);
 
 // `guide` null: BSDF sampling; else the mixture with BSDF share `bsdf_fraction`.
 ResidualStats measure_residual(cl::Context& ctx, const geometry::Geometry& geometry, nn::Network& network,
                                std::size_t points, std::size_t samples, std::uint64_t seed,
-                               nn::Network* guide = nullptr, float bsdf_fraction = 1.0f);
+                               nn::Network* guide = nullptr, float bsdf_fraction = 1.0f, bool next_event = false);
 
 }  // namespace clr::radiosity

@@ -185,6 +185,8 @@ TrainConfig RunDirectory::load_config(const fs::path& run) {
   if (saved.is_object() && !saved.contains("method")) saved["method"] = to_string(Method::Nr);
   // Runs written before the lagged guide became the default drew their guided directions unlagged.
   if (saved.is_object() && !saved.contains("guide_lag")) saved["guide_lag"] = 0;
+  // Runs written before next-event estimation joined the right-hand side trained without it.
+  if (saved.is_object() && !saved.contains("nee")) saved["nee"] = false;
   try {
     return parse_train_config(saved);
   } catch (const InputError& e) {

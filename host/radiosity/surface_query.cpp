@@ -19,11 +19,20 @@ PathEnd trace_to_surface(const geometry::Geometry& geometry, geometry::Ray ray, 
     const geometry::Hit hit = geometry.intersect(ray);
     const Vec3 wo = -glm::normalize(ray.direction);
     if (!hit.valid()) {
-      if (scene.environment) end.emitted += end.throughput * scene.environment->eval(-wo, sun_on_first || bounce > 0);
+      if (scene.environment) {
+        const Rgb le = end.throughput * scene.environment->eval(-wo, sun_on_first || bounce > 0);
+        end.emitted += le;
+        if (bounce == 0) end.first_emitted = le;
+      }
       return end;
     }
     const geometry::SurfacePoint p = geometry.surface(hit);
-    end.emitted += end.throughput * geometry::emitted(scene, p, wo);
+    const Rgb le = end.throughput * geometry::emitted(scene, p, wo);
+    end.emitted += le;
+    if (bounce == 0) {
+      end.first_emitted = le;
+      end.first_hit = p;
+    }
     const scene::BsdfPoint bsdf = p.bsdf(scene);
     if (bsdf.bsdf->has_non_delta()) {
       // The black side of a one-sided surface scatters nothing: the path ends with what it has, no lookup.

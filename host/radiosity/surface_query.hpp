@@ -2,6 +2,7 @@
 // Where the network is asked for radiance: a point on a non-delta surface and an outgoing direction, written as
 // one raw input row (the column layout of nn/encoder.hpp), plus the delta-bounce chain that leads there.
 #include <cstdint>
+#include <optional>
 
 #include "common/pcg32.hpp"
 #include "geometry/geometry.hpp"
@@ -20,6 +21,11 @@ void write_raw_row(const scene::Scene& scene, const geometry::SurfacePoint& p, c
 struct PathEnd {
   Rgb throughput{1.0f};  // product of the delta bounces' weights
   Rgb emitted{0.0f};     // emission met along the chain (environment included), already weighted
+  // The part of `emitted` met where the ray's first segment ended, before any delta bounce — the only part a light
+  // sample from the ray's origin can also reach, so the only part multiple importance sampling reweighs — and the
+  // surface there (none where the ray escaped).
+  Rgb first_emitted{0.0f};
+  std::optional<geometry::SurfacePoint> first_hit;
   bool at_surface = false;
   geometry::SurfacePoint point;  // valid when at_surface
   Vec3 wo{0.0f};                 // direction back along the last segment

@@ -49,6 +49,11 @@ struct TrainConfig {
   // as well as 0 within the seeds' spread on the Cornell box and Veach Bidir (docs/results/isnr.md).
   int guide_lag = 1;
   Residual residual = Residual::Relative;
+  // Next-event estimation in the right-hand side (docs/method.md, "Next-event estimation"): one light sample per
+  // incident sample, drawn by the path tracer's light sampler (area lights, the environment), weighted by the power
+  // heuristic against the BSDF's density, beside the directions; the emission those directions hit carries the
+  // complementary weight. false: the paper's estimator, which finds emitters only by the directions it draws.
+  bool nee = true;
   int samples = 4;     // N incident directions per point
   int batch = 0;       // M points per step; 0 = chosen for the device
   long steps = 0;      // stop after this many steps in total (0 = no step limit)
@@ -97,9 +102,9 @@ struct TrainConfig {
 };
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, is_loss, bsdf_fraction, guide_warmup, guide_lag,
-                                                residual, samples, batch, steps, minutes, seed, preset, anneal_start,
-                                                anneal_final, relative_fade_end, log_every, checkpoint_every, network,
-                                                guide)
+                                                residual, nee, samples, batch, steps, minutes, seed, preset,
+                                                anneal_start, anneal_final, relative_fade_end, log_every,
+                                                checkpoint_every, network, guide)
 
 // Applies the keys of `j` over `base`. An unknown key or a value of the wrong type is an InputError naming the
 // key (a misspelt key must not be silently ignored); the result is validated.

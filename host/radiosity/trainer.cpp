@@ -103,6 +103,7 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
   batch_settings_.first_point = share.first;
   batch_settings_.samples = std::size_t(config_.samples);
   batch_settings_.guide = guide_ != nullptr;
+  batch_settings_.next_event = config_.nee;
   batch_settings_.bsdf_fraction = guide_ ? float(config_.bsdf_fraction_at(0.0)) : 1.0f;
   non_finite_.fill(0u);
   set_schedule(default_schedule());

@@ -12,7 +12,7 @@ namespace clr::radiosity {
 namespace {
 
 // Distinct RNG streams for the uses of one (seed, step): surface points (0), ω_o (1), the uniforms of the guided
-// directions (2), and the incident half's per-point streams (3).
+// directions (2), the incident half's per-point streams (3), and its light samples (4).
 std::uint64_t stream_id(std::uint64_t seed, std::uint64_t step, std::uint64_t use) {
   return (seed * 0x9E3779B97F4A7C15ull) ^ (step * 0xBF58476D1CE4E5B9ull) ^ (use * 0x94D049BB133111EBull);
 }
@@ -25,7 +25,7 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 struct PartClock {
   bool on;
   Clock::time_point last = on ? Clock::now() : Clock::time_point{};
-  double bsdf = 0, tracing = 0, delta = 0;
+  double bsdf = 0, tracing = 0, next_event = 0;
   void lap(double& part) {
     if (!on) return;
     const auto now = Clock::now();
@@ -65,7 +65,8 @@ void sample_training_points(const geometry::SurfaceSampler& sampler, const scene
 }
 
 void trace_incident(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed,
-                    std::uint64_t step, std::span<const float> guided, TrainingBatch& batch) {
+                    std::uint64_t step, std::span<const float> guided, TrainingBatch& batch,
+                    const geometry::LightSampler* lights) {
   const scene::Scene& scene = geometry.scene();
   const std::size_t M = batch.points, N = batch.samples, R = nn::kRawInputs;
   const float c = settings.bsdf_fraction;
@@ -75,11 +76,13 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
   batch.bsdf_pdf.assign(M * N, -1.0f);
   batch.lookup.assign(M * N, -1);
   batch.directions.assign(keep ? M * N * 3 : 0, 0.0f);
-  const std::vector<scene::DeltaLight> lights = training_delta_lights(scene);
-  const bool delta_lights = !lights.empty();
+  const std::vector<scene::DeltaLight> deltas = training_delta_lights(scene);
+  const bool delta_lights = !deltas.empty();
   // A first segment from a non-delta lobe escaping into the sun would count it twice: it is in the direct term.
   const bool sun = scene.environment && scene.environment->sun_as_directional();
-  batch.direct.assign(delta_lights ? M * 3 : 0, 0.0f);
+  if (lights && lights->empty()) lights = nullptr;
+  batch.direct.assign(delta_lights || lights ? M * 3 : 0, 0.0f);
+  batch.light.assign(lights ? M * N * 3 : 0, 0.0f);
   std::vector<std::uint8_t> from_guide(M * N, 0);
   // Every sample's would-be lookup row, compacted afterwards in sample order (deterministic).
   std::vector<float> candidate(M * N * R);
@@ -94,11 +97,21 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
       const auto& x = batch.surface[m];
       const Vec3& wo = batch.wo[m];
       const scene::BsdfPoint bsdf = x.point.bsdf(scene);
-      if (delta_lights) {
-        const Rgb d = geometry::reflected_delta_lights(geometry, x.point, bsdf, wo, lights);
-        std::copy_n(&d.x, 3, &batch.direct[3 * m]);
+      Rgb direct(0.0f);
+      if (delta_lights) direct = geometry::reflected_delta_lights(geometry, x.point, bsdf, wo, deltas);
+      if (lights) {
+        // One light sample beside each direction, from a stream of its own: the directions stay those drawn without.
+        Pcg32 light_rng(batch.first_point + m, stream_id(seed, step, 4));
+        Rgb sum(0.0f);
+        for (std::size_t n = 0; n < N; ++n) {
+          const Rgb l = geometry::next_event(geometry, *lights, x.point, bsdf, wo, light_rng);
+          std::copy_n(&l.x, 3, &batch.light[3 * (m * N + n)]);
+          sum += l;
+        }
+        direct += sum / float(N);
       }
-      clock.lap(clock.delta);
+      if (!batch.direct.empty()) std::copy_n(&direct.x, 3, &batch.direct[3 * m]);
+      clock.lap(clock.next_event);
       for (std::size_t n = 0; n < N; ++n) {
         const std::size_t s = m * N + n;
         Vec3 wi;
@@ -123,8 +136,15 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
         if (keep) std::copy_n(&wi.x, 3, &batch.directions[3 * s]);
         clock.lap(clock.bsdf);
         if (fcos == Rgb(0.0f)) continue;
-        const PathEnd path = trace_to_surface(geometry, {x.point.spawn_origin(wi), 0.0f, wi}, rng,
-                                              settings.max_delta_bounces, delta || !sun);
+        PathEnd path = trace_to_surface(geometry, {x.point.spawn_origin(wi), 0.0f, wi}, rng, settings.max_delta_bounces,
+                                        delta || !sun);
+        if (lights && !delta && !scene::is_black(path.first_emitted)) {
+          // The emission a light sample could also have drawn: its MIS weight against the light sampler's density.
+          // The BSDF's density stands for p̃ (which, guided, is formed on the device): any weights that sum to one
+          // with the light sample's for every direction keep the sum unbiased.
+          const float p_light = lights->pdf_hit(path.first_hit ? &*path.first_hit : nullptr, x.point.position, wi);
+          path.emitted -= path.first_emitted * (1.0f - geometry::power_heuristic(batch.bsdf_pdf[s], p_light));
+        }
         for (int ch = 0; ch < 3; ++ch) {
           batch.weight[3 * s + ch] = fcos[ch] * path.throughput[ch];
           batch.emitted[3 * s + ch] = fcos[ch] * path.emitted[ch];
@@ -140,7 +160,7 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
       std::lock_guard lock(times_mutex);
       times->bsdf_cpu += clock.bsdf;
       times->tracing_cpu += clock.tracing;
-      times->delta_lights_cpu += clock.delta;
+      times->next_event_cpu += clock.next_event;
     }
   });
   if (times) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cl/context.hpp"
+#include "geometry/light_sampler.hpp"
 #include "geometry/surface_sampler.hpp"
 #include "radiosity/surface_query.hpp"
 
@@ -22,8 +23,9 @@ namespace clr::radiosity {
 struct HostStageTimes {
   double points = 0;      // sample_training_points: points, ω_o, their input rows
   double guide_read = 0;  // the guided directions drawn and read back: the host waits for the device's work before
-  double incident = 0;    // the incident loop: BSDF sampling, tracing, delta lights …
-  double bsdf_cpu = 0, tracing_cpu = 0, delta_lights_cpu = 0;  // … split by thread time
+  double incident = 0;    // the incident loop: BSDF sampling, tracing, next-event terms …
+  // … split by thread time; next_event_cpu: delta lights and light samples with their shadow rays
+  double bsdf_cpu = 0, tracing_cpu = 0, next_event_cpu = 0;
   double packing = 0;  // lookup rows compacted, p̃ without a guide, the lobes' frames
   double uploads = 0;  // the batch's arrays handed to the device (blocking writes, or copies into pinned memory)
   // Blocked until the device freed pinned memory for reuse (the device is behind the host), out of the stages above.
@@ -49,10 +51,14 @@ struct TrainingBatch {
   std::vector<float> pdf;         // p̃: filled here when nothing is guided (c = 1), else on the device
   std::vector<float> directions;  // ω_i, world space; only with a guide (its pdf and loss need them)
   std::vector<int> lookup;        // row in incident_rows, or −1
-  // Per point (× 3): f·cos·radiance summed over the scene's delta lights (point, spot, directional, projector),
-  // which no sampled direction can reach, with shadow rays — the next-event term added to the point's RHS as a
-  // constant. Empty when the scene has none. Not part of the samples, so the I-Module never guides towards it.
+  // Per point (× 3): the next-event term added to the point's RHS — f·cos·radiance summed over the scene's delta
+  // lights (point, spot, directional, projector), which no sampled direction can reach, with shadow rays, plus, with
+  // next-event estimation, the mean of the light samples' MIS-weighted estimates. Empty when there is neither. Not
+  // part of the samples' terms, so the I-Module learns the rest: what the directions must find.
   std::vector<float> direct;
+  // Per sample (× 3), with next-event estimation: the light sample drawn beside it, whose mean over the point's samples
+  // is in `direct` (kept on the host for the residual metric's variance); else empty.
+  std::vector<float> light;
   std::size_t guided = 0;           // samples whose direction came from q
   HostStageTimes* times = nullptr;  // where the stages that fill this batch add their time; null: not timed
 
@@ -91,6 +97,8 @@ struct BatchSettings {
   // An I-Module learns from the batch (ISNR): directions and p_bsdf are kept for its loss and p̃ is formed on the
   // device, also while c = 1 (the guide's warm-up, when it learns from BSDF samples before any are drawn from it).
   bool guide = false;
+  // Next-event estimation of area lights and the environment beside each sample (TrainConfig::nee).
+  bool next_event = false;
   // This process's points are [first_point, first_point + points) of the step's sequence: every stream is keyed
   // by a point's index in it, so MPI ranks drawing their shares draw the one-process batch between them.
   std::size_t first_point = 0;
@@ -106,11 +114,14 @@ void sample_training_points(const geometry::SurfaceSampler& sampler, const scene
 
 // The second half, on the host: each sample takes the BSDF with probability c, else the direction guided[s] (3
 // floats per sample, drawn from q on the device; empty when c = 1), and its ray is traced (Embree) through delta
-// chains; with delta lights, each point's `direct` term is formed too. Sample streams depend only on (seed, step, point
-// index), so a batch is reproducible whatever the thread count. IncidentSampling (guide/incident_sampling.hpp) runs the
-// device's part around it.
+// chains; with delta lights, each point's `direct` term is formed too, and with `lights` (training_light_sampler: given
+// when settings.next_event) a light sample beside each direction. Sample streams depend only on (seed, step, point
+// index), so a batch is reproducible whatever the thread count, and the light samples have a stream of their own, so
+// the directions are the same with or without them. IncidentSampling (guide/incident_sampling.hpp) runs the device's
+// part around it.
 void trace_incident(const geometry::Geometry& geometry, const BatchSettings& settings, std::uint64_t seed,
-                    std::uint64_t step, std::span<const float> guided, TrainingBatch& batch);
+                    std::uint64_t step, std::span<const float> guided, TrainingBatch& batch,
+                    const geometry::LightSampler* lights = nullptr);
 
 // The three uniforms per sample that the device turns into guided directions (kernels/vmf.cl: vmf_sample).
 void guide_uniforms(std::size_t points, std::size_t samples, std::uint64_t seed, std::uint64_t step,

@@ -9,4 +9,9 @@ std::vector<scene::DeltaLight> training_delta_lights(const scene::Scene& scene) 
   return lights;
 }
 
+geometry::LightSampler training_light_sampler(const scene::Scene& scene) {
+  const bool sun = scene.environment && scene.environment->sun_as_directional();
+  return geometry::LightSampler(scene, {.delta = false, .environment = !sun});
+}
+
 }  // namespace clr::radiosity

@@ -69,6 +69,7 @@ const std::vector<SettingFlag>& setting_flags() {
                                                  {"--batch", "/batch", true},
                                                  {"--seed", "/seed", true},
                                                  {"--residual", "/residual", true},
+                                                 {"--nee", "/nee", true},
                                                  {"--learning-rate", "/network/adam/learning_rate", true},
                                                  {"--guide-learning-rate", "/guide/adam/learning_rate", true},
                                                  {"--gemm", "/network/gemm", true},

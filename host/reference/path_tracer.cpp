@@ -12,8 +12,7 @@
 #include "common/pcg32.hpp"
 #include "common/progress.hpp"
 #include "common/stop_signal.hpp"
-#include "geometry/delta_lighting.hpp"
-#include "reference/light_sampler.hpp"
+#include "geometry/light_sampler.hpp"
 
 namespace clr::reference {
 namespace {
@@ -21,11 +20,6 @@ namespace {
 using scene::Rgb;
 using scene::Vec2;
 using scene::Vec3;
-
-float power_heuristic(float a, float b) {
-  const float a2 = a * a, b2 = b * b;
-  return a2 + b2 > 0 ? a2 / (a2 + b2) : 0.0f;
-}
 
 // Russian roulette starts after this many bounces: short paths carry most of the image and stay noise-free.
 constexpr int kRouletteDepth = 3;
@@ -44,7 +38,7 @@ class PathTracer {
       const geometry::Hit hit = g_.intersect(ray);
       if (!hit.valid()) {
         if (s_.environment) {
-          const float w = specular ? 1.0f : power_heuristic(prev_pdf, lights_.pdf_environment(ray.direction));
+          const float w = specular ? 1.0f : geometry::power_heuristic(prev_pdf, lights_.pdf_environment(ray.direction));
           L += beta * s_.environment->eval(ray.direction) * w;
         }
         break;
@@ -52,13 +46,14 @@ class PathTracer {
       const geometry::SurfacePoint sp = g_.surface(hit);
       const Vec3 wo = -ray.direction;
       if (const Rgb le = geometry::emitted(s_, sp, wo); !scene::is_black(le)) {
-        const float w = specular ? 1.0f : power_heuristic(prev_pdf, lights_.pdf_triangle(sp, prev_position));
+        const float w = specular ? 1.0f : geometry::power_heuristic(prev_pdf, lights_.pdf_triangle(sp, prev_position));
         L += beta * le * w;
       }
       if (max_depth_ >= 0 && depth + 1 >= max_depth_) break;
 
       const scene::BsdfPoint bsdf = sp.bsdf(s_);
-      if (bsdf.bsdf->has_non_delta() && !lights_.empty()) L += beta * next_event(sp, bsdf, wo, rng, rays);
+      if (bsdf.bsdf->has_non_delta() && !lights_.empty())
+        L += beta * geometry::next_event(g_, lights_, sp, bsdf, wo, rng, &rays);
 
       const auto bs = bsdf.sample(wo, rng.next_float(), Vec2(rng.next_float(), rng.next_float()));
       if (!bs) break;
@@ -78,31 +73,9 @@ class PathTracer {
   }
 
  private:
-  Rgb next_event(const geometry::SurfacePoint& sp, const scene::BsdfPoint& bsdf, const Vec3& wo, Pcg32& rng,
-                 std::uint64_t& rays) const {
-    const LightSample ls = lights_.sample(sp.position, rng);
-    if (!(ls.pdf > 0) || scene::is_black(ls.radiance)) return Rgb(0.0f);
-    // The training batch's right-hand side takes delta lights through the same function (all of them at once).
-    if (ls.delta) return geometry::reflected_delta_light(g_, sp, bsdf, wo, *ls.delta_light, &rays) / ls.pdf;
-    const Rgb f = bsdf.eval(wo, ls.direction);
-    if (scene::is_black(f)) return Rgb(0.0f);
-    geometry::Ray shadow{sp.spawn_origin(ls.direction), 0.0f, ls.direction, ls.distance};
-    if (!ls.environment) {
-      // Stop short of the light's surface by the same relative margin the origin was pushed off its own.
-      const Vec3 target = ls.point + ls.light_normal * (glm::dot(ls.light_normal, -ls.direction) > 0 ? 1.0f : -1.0f) *
-                                         2e-5f * std::fmax(1.0f, scene::max_component(glm::abs(ls.point)));
-      shadow.direction = target - shadow.origin;
-      shadow.tfar = 1.0f;
-    }
-    ++rays;
-    if (g_.occluded(shadow)) return Rgb(0.0f);
-    const float w = power_heuristic(ls.pdf, bsdf.pdf(wo, ls.direction));
-    return f * ls.radiance * (w / ls.pdf);
-  }
-
   const geometry::Geometry& g_;
   const scene::Scene& s_;
-  LightSampler lights_;
+  geometry::LightSampler lights_;
   int max_depth_;
 };
 

@@ -9,8 +9,8 @@
 
 #include "common/pcg32.hpp"
 #include "geometry/geometry.hpp"
+#include "geometry/light_sampler.hpp"
 #include "geometry/surface_sampler.hpp"
-#include "reference/light_sampler.hpp"
 #include "scene/scene_files.hpp"
 
 namespace clr::test {
@@ -228,7 +228,7 @@ TEST_F(ExactShapes, SamplesAreUniformByAreaAndTheLightDensityMatches) {
     const double expected = double(kN) / (kCells * kCells);
     for (double c : count) chi2 += (c - expected) * (c - expected) / expected;
     EXPECT_LT(chi2, 103.4) << shape;
-    const reference::LightSampler lights(s);
+    const geometry::LightSampler lights(s);
     const geometry::Geometry g(s);
     Pcg32 rng(2, 2);
     int checked = 0;

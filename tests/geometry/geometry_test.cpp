@@ -7,9 +7,9 @@
 #include <cmath>
 
 #include "common/pcg32.hpp"
+#include "geometry/light_sampler.hpp"
 #include "geometry/surface_sampler.hpp"
 #include "image/image.hpp"
-#include "reference/light_sampler.hpp"
 #include "scene/chi2.hpp"
 #include "scene/scene_files.hpp"
 
@@ -344,7 +344,7 @@ TEST_F(Geometry, SphereSamplesAreUniformByAreaAndTheLightDensityMatches) {
   for (double c : count) chi2 += (c - expected) * (c - expected) / expected;
   EXPECT_LT(chi2, 103.4);
   // Next-event estimation's density of a point on the sphere equals the one it reports when it draws that point.
-  const reference::LightSampler lights(s);
+  const geometry::LightSampler lights(s);
   const geometry::Geometry g(s);
   Pcg32 rng(2, 2);
   const Vec3 from(0, 0.3f, 0.1f);
@@ -366,7 +366,7 @@ TEST_F(Geometry, SphereLightsAreDrawnWithinTheirConeByTheDensityTheyReport) {
       <point name="center" x="0.3" y="-0.2" z="0.4"/>
       <emitter type="area"><rgb name="radiance" value="2"/></emitter></shape>)"));
   const geometry::Geometry g(s);
-  const reference::LightSampler lights(s);
+  const geometry::LightSampler lights(s);
   // 0.6 and 1 from the centre: cones of 56° and 30° (a narrower one slips between the χ² grid's quadrature nodes).
   for (const Vec3 from : {Vec3(0.3f, -0.2f, -0.2f), Vec3(0.3f + 0.6f, -0.2f + 0.8f, 0.4f)}) {
     const auto r = chi2_test(

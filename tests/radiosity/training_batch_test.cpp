@@ -57,7 +57,7 @@ TEST(TrainingBatch, TimesItsStagesOnlyWhenAsked) {
   EXPECT_GT(times.packing, 0.0);
   EXPECT_EQ(times.guide_read, 0.0);  // nothing guided
   // The thread time of the loop's parts cannot exceed its wall time on all workers.
-  EXPECT_LE(times.bsdf_cpu + times.tracing_cpu + times.delta_lights_cpu,
+  EXPECT_LE(times.bsdf_cpu + times.tracing_cpu + times.next_event_cpu,
             times.incident * double(worker_count()) * 1.05 + 1e-4);
   // Timing changes nothing in the batch.
   EXPECT_EQ(timed.incident_rows, host_batch(g, nullptr).incident_rows);

@@ -4,6 +4,7 @@
 
 #include "nn/programs.hpp"
 #include "radiosity/guide/i_module.hpp"
+#include "radiosity/training_lights.hpp"
 
 namespace clr::radiosity {
 
@@ -94,7 +95,15 @@ void IncidentSampling::trace(const geometry::Geometry& geometry, const BatchSett
     }
     guided_dirs = guided_host_;
   }
-  trace_incident(geometry, settings, seed, step, guided_dirs, batch);
+  const geometry::LightSampler* lights = nullptr;
+  if (settings.next_event) {
+    if (lights_scene_ != &geometry.scene()) {
+      lights_.emplace(training_light_sampler(geometry.scene()));
+      lights_scene_ = &geometry.scene();
+    }
+    lights = &*lights_;
+  }
+  trace_incident(geometry, settings, seed, step, guided_dirs, batch, lights);
 }
 
 void IncidentSampling::upload(const BatchSettings& settings, const TrainingBatch& batch) {

@@ -56,8 +56,9 @@ class IncidentSampling {
   // Device copies of the last batch's arrays (directions and bsdf_pdf only with lobes).
   cl::Buffer<float> incident_rows, weight, emitted, pdf, directions, bsdf_pdf;
   cl::Buffer<int> lookup;
-  // With delta lights in the scene: the points' next-event term (TrainingBatch::direct), added to a right-hand side
-  // formed from these samples by add_direct; without them add_direct does nothing and no buffer exists.
+  // With delta lights in the scene or next-event estimation: the points' next-event term (TrainingBatch::direct), added
+  // to a right-hand side formed from these samples by add_direct; without them add_direct does nothing and no buffer
+  // exists.
   cl::Buffer<float> direct;
   void add_direct(cl::Buffer<float>& rhs, cl::Buffer<unsigned>& non_finite);
   // The guide's view of those samples, once `radiance` holds sg(L_α) at the incident rows and `scattered` (× scale)
@@ -87,6 +88,9 @@ class IncidentSampling {
 
   cl::Context* ctx_;
   VmfMixture vmf_;
+  // The light sampler of next-event estimation, built for the first batch that asks for it, and kept for its scene.
+  std::optional<geometry::LightSampler> lights_;
+  const scene::Scene* lights_scene_ = nullptr;
   bool pinned_ = false;
   // Lagged only: the sampler's lobes and the next step's (swapped by advance()).
   std::unique_ptr<VmfMixture> sampling_, next_;

@@ -1,10 +1,12 @@
-#include "reference/light_sampler.hpp"
+#include "geometry/light_sampler.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-namespace clr::reference {
+#include "geometry/delta_lighting.hpp"
+
+namespace clr::geometry {
 namespace {
 
 // 1 − cos θmax of the cone in which a sphere light that emits outwards is seen from `from`, or 0 where it is drawn by
@@ -38,8 +40,11 @@ scene::Vec2 uv_in_cone(const scene::ExactShape& s, const Vec3& from, double widt
 
 }  // namespace
 
-LightSampler::LightSampler(const scene::Scene& scene)
-    : scene_(&scene), first_(scene.shapes.size(), std::numeric_limits<std::size_t>::max()) {
+LightSampler::LightSampler(const scene::Scene& scene, LightChoice choice)
+    : scene_(&scene),
+      environment_(choice.environment ? scene.environment.get() : nullptr),
+      delta_lights_(choice.delta ? scene.delta_lights.size() : 0),
+      first_(scene.shapes.size(), std::numeric_limits<std::size_t>::max()) {
   for (std::size_t s = 0; s < scene.shapes.size(); ++s) {
     const auto& shape = scene.shapes[s];
     if (!shape.is_emitter()) continue;
@@ -61,10 +66,10 @@ LightSampler::LightSampler(const scene::Scene& scene)
   }
   // Each kind of light gets an equal share: the environment's power is not comparable to the triangles' (it has
   // no area), nor a point light's, and an even split never starves any.
-  const std::size_t shares = (cdf_.empty() ? 0 : 1) + (scene.environment ? 1 : 0) + scene.delta_lights.size();
+  const std::size_t shares = (cdf_.empty() ? 0 : 1) + (environment_ ? 1 : 0) + delta_lights_;
   if (shares == 0) return;
   const float share = 1.0f / float(shares);
-  if (scene.environment) environment_probability_ = share;
+  if (environment_) environment_probability_ = share;
   if (!cdf_.empty()) area_probability_ = share;
   delta_probability_ = share;
 }
@@ -74,7 +79,7 @@ LightSample LightSampler::sample(const Vec3& from, Pcg32& rng) const {
   const float u_select = rng.next_float();
   const scene::Vec2 u(rng.next_float(), rng.next_float());
   if (u_select < environment_probability_) {
-    const auto s = scene_->environment->sample(u);
+    const auto s = environment_->sample(u);
     ls.direction = s.dir;
     ls.distance = std::numeric_limits<float>::infinity();
     ls.radiance = s.radiance;
@@ -85,7 +90,7 @@ LightSample LightSampler::sample(const Vec3& from, Pcg32& rng) const {
   if (u_select >= environment_probability_ + area_probability_) {
     const auto& lights = scene_->delta_lights;
     const auto i = std::min(std::size_t((u_select - environment_probability_ - area_probability_) / delta_probability_),
-                            lights.size() - 1);
+                            delta_lights_ - 1);
     const auto a = lights[i].arrive(from);
     ls.direction = a.direction;
     ls.distance = a.distance;
@@ -131,7 +136,28 @@ float LightSampler::pdf_triangle(const geometry::SurfacePoint& p, const Vec3& fr
 }
 
 float LightSampler::pdf_environment(const Vec3& dir) const {
-  return environment_probability_ > 0 ? environment_probability_ * scene_->environment->pdf(dir) : 0.0f;
+  return environment_probability_ > 0 ? environment_probability_ * environment_->pdf(dir) : 0.0f;
 }
 
-}  // namespace clr::reference
+Rgb next_event(const Geometry& geometry, const LightSampler& lights, const SurfacePoint& p,
+               const scene::BsdfPoint& bsdf, const Vec3& wo, Pcg32& rng, std::uint64_t* rays) {
+  const LightSample ls = lights.sample(p.position, rng);
+  if (!(ls.pdf > 0) || scene::is_black(ls.radiance)) return Rgb(0.0f);
+  if (ls.delta) return reflected_delta_light(geometry, p, bsdf, wo, *ls.delta_light, rays) / ls.pdf;
+  const Rgb f = bsdf.eval(wo, ls.direction);
+  if (scene::is_black(f)) return Rgb(0.0f);
+  Ray shadow{p.spawn_origin(ls.direction), 0.0f, ls.direction, ls.distance};
+  if (!ls.environment) {
+    // Stop short of the light's surface by the same relative margin the origin was pushed off its own.
+    const Vec3 target = ls.point + ls.light_normal * (glm::dot(ls.light_normal, -ls.direction) > 0 ? 1.0f : -1.0f) *
+                                       2e-5f * std::fmax(1.0f, scene::max_component(glm::abs(ls.point)));
+    shadow.direction = target - shadow.origin;
+    shadow.tfar = 1.0f;
+  }
+  if (rays) ++*rays;
+  if (geometry.occluded(shadow)) return Rgb(0.0f);
+  const float w = power_heuristic(ls.pdf, bsdf.pdf(wo, ls.direction));
+  return f * ls.radiance * (w / ls.pdf);
+}
+
+}  // namespace clr::geometry
