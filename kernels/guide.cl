@@ -3,8 +3,9 @@
 //   t_n = lum(f·cos·L_i(ω_n))   (emitted + weight·sg(L_α), the weights not divided by any pdf)
 //   F = lum(sg(L_α(x, ω_o)) − D),  p_n = t_n / F  — the target density
 // F = ∫ f·cos·L_i dω over the sampled directions is what the N-Module predicts at the point itself (it models the
-// scattered radiance), as the paper's §4.3 computes it, less D, the delta lights' next-event term (use_direct: a
-// scene with point, spot, directional or projector lights), which L_α includes but no sampled direction carries. An
+// scattered radiance), as the paper's §4.3 computes it, less D, the next-event term (use_direct: the delta lights' and,
+// with next-event estimation, the light samples' MIS-weighted mean), which L_α includes but the sampled directions'
+// terms do not carry (their emission is MIS-weighted): the guide learns where the rest comes from. An
 // estimate from the N samples instead (self-normalised) was measured to teach little: a point's one lit sample always
 // got p/p̃ = N whatever its radiance.
 //   KL  (Eq. 17): ∇ = −(1/N) Σ p_n/p̃_n ∇log q(ω_n)

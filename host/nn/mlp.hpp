@@ -29,6 +29,7 @@ struct MlpConfig {
   std::size_t outputs = 32;
   OutputActivation output_activation = OutputActivation::None;
   float output_scale = 1;              // infer() only (NetworkConfig::output_scale)
+  float output_init = 1;               // the output layer's initial weights' scale (NetworkConfig::output_init)
   std::size_t max_chunk_rows = 65536;  // further capped by the device's max allocation
   // Small networks where the one-launch kernel (kernels/mlp_fused.cl) applies — width and outputs multiples of 16
   // and ≤ 64, 1-4 hidden layers, no output activation (the I-Module) — take it or the per-layer GEMMs: Probe times

@@ -23,6 +23,7 @@ MlpConfig mlp_config(const NetworkConfig& c, std::size_t inputs) {
   m.outputs = c.outputs;
   m.output_activation = c.output_activation;
   m.output_scale = c.output_scale;
+  m.output_init = c.output_init;
   m.max_chunk_rows = c.max_chunk_rows;
   return m;
 }
@@ -66,6 +67,7 @@ NetworkConfig n_module_config(const std::array<float, 3>& lo, const std::array<f
   c.hidden_layers = 4;
   c.outputs = 3;
   c.output_activation = OutputActivation::Abs;
+  c.output_init = 0.1f;
   return c;
 }
 
@@ -98,8 +100,9 @@ nlohmann::json to_json(const NetworkConfig& c) {
                                : c.gemm == GemmChoice::CLBlast ? "clblast"
                                                                : "auto"},
                       {"seed", c.seed}};
-  // Written only where it is not 1, so that runs (and checkpoints) from before it existed compare equal.
+  // Written only where they are not 1, so that runs (and checkpoints) from before they existed compare equal.
   if (c.output_scale != 1.0f) j["output_scale"] = shortest(c.output_scale);
+  if (c.output_init != 1.0f) j["output_init"] = shortest(c.output_init);
   return j;
 }
 
@@ -135,6 +138,7 @@ void validate(const NetworkConfig& c) {
   require(c.max_chunk_rows >= 1, "max_chunk_rows", c.max_chunk_rows, ">= 1");
   // Beyond these the scaled outputs, or their reciprocal in the loss, leave float's normal range.
   require(c.output_scale >= 1e-30f && c.output_scale <= 1e30f, "output_scale", c.output_scale, "in [1e-30, 1e30]");
+  require(c.output_init > 0.0f && c.output_init <= 1.0f, "output_init", c.output_init, "in (0, 1]");
   const auto& a = c.adam;
   // Adam moves each parameter by about the learning rate per step: above 1 nothing converges.
   require(std::isfinite(a.learning_rate) && a.learning_rate > 0 && a.learning_rate <= 1, "adam.learning_rate",
@@ -225,6 +229,7 @@ NetworkConfig network_config_from_json(const nlohmann::json& j) {
     c.output_activation = act == "abs" ? OutputActivation::Abs : OutputActivation::None;
     get(j, "", "max_chunk_rows", c.max_chunk_rows);
     get(j, "", "output_scale", c.output_scale);
+    get(j, "", "output_init", c.output_init);
     get(j, "", "gemm", gemm);
     c.gemm = parse_gemm_choice(gemm);
     get(j, "", "seed", c.seed);
@@ -243,7 +248,8 @@ NetworkConfig network_config_from_json(const nlohmann::json& j) {
     throw InputError("network config entry '" + at + "': " + clip(e.what(), 200));
   }
   nlohmann::json kept = to_json(c);
-  kept["output_scale"] = c.output_scale;  // to_json leaves out the default
+  kept["output_scale"] = c.output_scale;  // to_json leaves out the defaults
+  kept["output_init"] = c.output_init;
   require_known_and_kept(j, kept, "network config");
   validate(c);
   return c;

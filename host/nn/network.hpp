@@ -30,6 +30,11 @@ struct NetworkConfig {
   // output_scale, the units in which the initial weights and Adam's step sizes fit. The N-Module's is the scene's
   // radiance scale (radiosity/radiance_scale.hpp), so a scene emitting 1e5 trains as one emitting 1.
   float output_scale = 1;
+  // The output layer's initial weights, as a fraction of He's: the N-Module's start at a tenth, so that its first
+  // image is dark and training brings the light in, rather than starting bright and pulling the light down — on a
+  // room lit through a door gap (scenes/door-gap.xml) a full-scale start was still 1.3× too bright at 150 steps,
+  // where a tenth-scale one was within 2 % (tests/radiosity/runaway_slow_test.cpp; docs/method.md).
+  float output_init = 1;
   std::size_t max_chunk_rows = 65536;
   AdamConfig adam;
   GemmChoice gemm = GemmChoice::Auto;  // the engine config's `gemm: auto|fp32|own|clblast`

@@ -90,7 +90,8 @@ def train(scene, out, *, steps=None, minutes=None, method=None, config=None, pre
 
     Budget: ``steps`` or ``minutes`` (or a ``preset``: preview, balanced, quality, paper). ``method``: "isnr"
     (default) or "nr". ``config``: a dict of settings or a JSON file, as --config. More settings by keyword, as the
-    flags: is_loss, residual, samples, batch, seed, bsdf_fraction, learning_rate, guide_learning_rate, gemm.
+    flags: is_loss, residual, nee (True/False), samples, batch, seed, bsdf_fraction, learning_rate, guide_learning_rate,
+    gemm.
     ``reference`` (an EXR path) logs MAPE/MSE/relMSE in log.csv every ``eval_every`` steps, as --reference.
     ``callback(report)`` is called after every step with {'step', 'loss', 'seconds'}; returning False ends the run
     there, with its checkpoint.

@@ -28,8 +28,8 @@ struct GuideSamples {
   // of the target density.
   const cl::Buffer<float>& scattered;
   float scattered_scale = 1.0f;
-  // The delta lights' next-event term at the points (RGB radiance), part of L_α but not of the sampled integral
-  // the guide learns: F is L_α less it. Null where the scene has no delta lights.
+  // The next-event term at the points (RGB radiance: delta lights, the light samples' mean), part of L_α but not of
+  // the sampled integral the guide learns: F is L_α less it. Null where there is none.
   const cl::Buffer<float>* direct = nullptr;
 };
 
