@@ -19,17 +19,12 @@
 #include "reference/path_tracer.hpp"
 #include "scene/scene.hpp"
 #include "support/cl_fixture.hpp"
+#include "support/image_mean.hpp"
 
 namespace clr::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-double mean(const image::Image& img) {
-  double s = 0;
-  for (float v : img.rgb) s += v;
-  return s / double(img.rgb.size());
-}
 
 struct Case {
   const char* name;
@@ -60,7 +55,7 @@ TEST_P(Runaway, ImageMeanStaysNearTheReference) {
   const Case c = GetParam();
   const auto scene = scene::load_scene(fs::path(CLR_SOURCE_DIR) / "scenes" / "door-gap.xml");
   const geometry::Geometry geometry(scene);
-  const double want = mean(reference(geometry));
+  const double want = image_mean(reference(geometry));
   ASSERT_GT(want, 0.0);
 
   radiosity::TrainConfig config;
@@ -83,7 +78,7 @@ TEST_P(Runaway, ImageMeanStaysNearTheReference) {
   options.evaluate = [&] {
     const radiosity::RenderSettings settings{.width = 48, .height = 48, .spp = 2};
     const auto img = radiosity::render(geometry, radiosity::radiance_query(ctx(), trainer.network()), settings);
-    ratios.emplace_back(long(trainer.steps_done()), mean(img) / want);
+    ratios.emplace_back(long(trainer.steps_done()), image_mean(img) / want);
     return image::compare(img, reference(geometry));
   };
   trainer.run(options);

@@ -17,18 +17,13 @@
 #include "radiosity/trainer.hpp"
 #include "scene/scene.hpp"
 #include "support/cl_fixture.hpp"
+#include "support/image_mean.hpp"
 #include "support/shared_scenes.hpp"
 
 namespace clr::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-double mean(const image::Image& img) {
-  double s = 0;
-  for (float v : img.rgb) s += v;
-  return s / double(img.rgb.size());
-}
 
 struct Case {
   const char* scene;
@@ -61,7 +56,7 @@ TEST_P(VeachTraining, StaysFiniteAndDoesNotRunAway) {
   const auto img = radiosity::render(geometry, radiosity::radiance_query(ctx(), trainer.network()), settings);
   const auto ref = image::match_size(image::read_exr(dir / "TungstenRender.exr"), img);
   const auto m = image::compare(img, ref);
-  const double ratio = mean(img) / mean(ref);
+  const double ratio = image_mean(img) / image_mean(ref);
   std::cout << c.scene << " (" << c.method << "): 300 steps, image mean / Tungsten's " << ratio << ", MAPE " << m.mape
             << "\n";
   EXPECT_EQ(m.non_finite, 0u);
