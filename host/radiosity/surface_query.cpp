@@ -29,7 +29,7 @@ PathEnd trace_to_surface(const geometry::Geometry& geometry, geometry::Ray ray, 
     const geometry::SurfacePoint p = geometry.surface(hit);
     const Rgb le = end.throughput * geometry::emitted(scene, p, wo);
     end.emitted += le;
-    if (bounce == 0) {
+    if (bounce == 0 && !scene::is_black(le)) {  // an emitter: a light sample could have drawn it (no copy otherwise)
       end.first_emitted = le;
       end.first_hit = p;
     }

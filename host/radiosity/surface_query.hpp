@@ -23,7 +23,7 @@ struct PathEnd {
   Rgb emitted{0.0f};     // emission met along the chain (environment included), already weighted
   // The part of `emitted` met where the ray's first segment ended, before any delta bounce — the only part a light
   // sample from the ray's origin can also reach, so the only part multiple importance sampling reweighs — and the
-  // surface there (none where the ray escaped).
+  // surface there (kept only where it emits; none where the ray escaped).
   Rgb first_emitted{0.0f};
   std::optional<geometry::SurfacePoint> first_hit;
   bool at_surface = false;
