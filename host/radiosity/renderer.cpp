@@ -46,14 +46,17 @@ void render_frames(const geometry::Geometry& geometry, std::span<const scene::Ca
       for (std::size_t i = begin; i < end; ++i) {
         const std::size_t frame = (s0 + i) / per_frame, sample = (s0 + i) % per_frame, pixel = sample / spp;
         Pcg32 rng(sample, settings.seed);
-        const float px = float(pixel % std::size_t(width)) + rng.next_float();
-        const float py = float(pixel / std::size_t(width)) + rng.next_float();
-        const auto ray = views[frame].ray(px, py);
-        const PathEnd path =
-            trace_to_surface(geometry, {ray.origin, ray.tnear, ray.direction}, rng, settings.max_delta_bounces);
+        const scene::Camera& view = views[frame];
+        const auto ps = view.pixel_sample(pixel % std::size_t(width), pixel / std::size_t(width), rng);
+        // A thin lens draws its aperture point, as the path tracer does; pinholes draw nothing more.
+        const scene::Vec2 lens =
+            view.aperture_radius > 0 ? scene::Vec2(rng.next_float(), rng.next_float()) : scene::Vec2(0.5f);
+        const auto ray = view.ray(ps.px, ps.py, lens);
+        const PathEnd path = trace_to_surface(geometry, {ray.origin, ray.tnear, ray.direction, ray.tfar}, rng,
+                                              settings.max_delta_bounces);
         for (int c = 0; c < 3; ++c) {
-          emitted[3 * i + c] = path.emitted[c];
-          throughput[3 * i + c] = path.throughput[c];
+          emitted[3 * i + c] = path.emitted[c] * ps.weight;
+          throughput[3 * i + c] = path.throughput[c] * ps.weight;
         }
         if (path.at_surface) {
           write_raw_row(geometry.scene(), path.point, path.wo, &rows[i * R]);

@@ -1,6 +1,7 @@
 #pragma once
 // Rendering from a radiance field (docs/design.md §2): camera ray → delta bounces followed → at the first modelled
-// surface x, Le(x) + L(x, −d). `spp` jittered camera rays per pixel, box-filtered.
+// surface x, Le(x) + L(x, −d). `spp` camera rays per pixel, drawn from the film's reconstruction filter as the path
+// tracer draws them (scene/pixel_filter.hpp).
 #include <functional>
 #include <span>
 

@@ -124,12 +124,12 @@ image::Image render(const geometry::Geometry& geometry, const RenderOptions& opt
           glm::dvec3 pixel_sum(0.0);
           for (int s = first; s < first + count; ++s) {
             Pcg32 rng = Pcg32::for_sample(y * width + x, std::uint64_t(s), options.seed);
-            const float px = float(x) + rng.next_float(), py = float(y) + rng.next_float();
+            const auto ps = camera.pixel_sample(x, y, rng);
             // A thin lens draws its aperture point; pinholes draw nothing more.
             const scene::Vec2 lens =
                 camera.aperture_radius > 0 ? scene::Vec2(rng.next_float(), rng.next_float()) : scene::Vec2(0.5f);
-            const auto cr = camera.ray(px, py, lens);
-            const Rgb L = tracer.radiance({cr.origin, cr.tnear, cr.direction, cr.tfar}, rng, local_rays);
+            const auto cr = camera.ray(ps.px, ps.py, lens);
+            const Rgb L = tracer.radiance({cr.origin, cr.tnear, cr.direction, cr.tfar}, rng, local_rays) * ps.weight;
             if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z))
               pixel_sum += glm::dvec3(L);
             else

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "scene/frame.hpp"
+#include "scene/pixel_filter.hpp"
 
 namespace clr::scene {
 
@@ -26,6 +27,8 @@ struct Camera {
   // them on every camera.
   Vec2 principal_point_offset{0.0f};
   int width = 768, height = 576;
+  // The film's reconstruction filter: where in and around a pixel its samples fall, and their weights.
+  PixelFilter filter;
 
   struct Ray {
     Vec3 origin, direction;  // direction is unit length
@@ -34,6 +37,12 @@ struct Camera {
   // (px, py) in pixel units: (0, 0) the top-left corner of the image, (width, height) the bottom-right. `lens`
   // in [0, 1)² chooses the point on a thin lens' aperture (its centre at (0.5, 0.5)); pinholes ignore it.
   Ray ray(float px, float py, const Vec2& lens = Vec2(0.5f)) const;
+  // A sample of pixel (x, y): its film position, drawn from the filter around the pixel's centre, and the weight it
+  // carries into the pixel's mean. The box filter (radius 0.5) draws two numbers from `rng`, as x + u, y + v.
+  struct PixelSample {
+    float px, py, weight;
+  };
+  PixelSample pixel_sample(std::size_t x, std::size_t y, Pcg32& rng) const;
   // Half-extents of the image plane at distance 1.
   Vec2 tan_half_fov() const;
   // The same camera with a film of another size (0 keeps the scene's): as in Mitsuba and Tungsten, the film defines

@@ -88,7 +88,8 @@ kind = original.class_().name() if hasattr(original, "class_") else type(origina
 spec = {
     "to_world": camera["to_world"],
     "near_clip": scalar(camera["near_clip"]),
-    "film": {"type": "hdrfilm", "width": int(width), "height": int(height), "rfilter": {"type": "box"}},
+    # The scene's own reconstruction filter (Mitsuba's gaussian where it names none), as `reference` applies it.
+    "film": {"type": "hdrfilm", "width": int(width), "height": int(height), "rfilter": original.film().rfilter()},
 }
 if "Orthographic" in kind:
     spec["type"] = "orthographic"

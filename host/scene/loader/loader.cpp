@@ -683,15 +683,7 @@ class Loader final : public loader::Context {
         }
         continue;
       }
-      if (o.tag() != "film") continue;
-      const Props f(o);
-      c.width = f.integer("width", 768);
-      c.height = f.integer("height", 576);
-      try {
-        image::check_image_size(c.width, c.height, "film");
-      } catch (const InputError& e) {
-        o.fail(e.what());
-      }
+      if (o.tag() == "film") loader::read_film(Props(o), c);
     }
     if (scene_.sensor_count++ == sensor_) {
       scene_.camera = c;

@@ -100,6 +100,8 @@ std::shared_ptr<const Bsdf> single_nested_bsdf(Context& ctx, const Props& p);
 // `focal_length` (default 50 mm on 35 mm film, spanning its diagonal); near_clip, far_clip and focus_distance.
 void read_fov(const Props& p, Camera& c);
 void read_clip_planes(const Props& p, Camera& c);
+// The sensor's <film>: its size and its <rfilter> (Mitsuba's gaussian where it names none).
+void read_film(const Props& film, Camera& c);
 
 using BsdfReader = std::shared_ptr<const Bsdf> (*)(Context&, const Props&);
 using TextureReader = Texture (*)(Context&, const Props&);

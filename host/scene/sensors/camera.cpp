@@ -24,6 +24,12 @@ Vec2 Camera::tan_half_fov() const {
   }
 }
 
+Camera::PixelSample Camera::pixel_sample(std::size_t x, std::size_t y, Pcg32& rng) const {
+  const PixelFilter::Sample sx = filter.sample(rng);
+  const PixelFilter::Sample sy = filter.sample(rng);
+  return {float(x) + 0.5f + sx.offset, float(y) + 0.5f + sy.offset, sx.weight * sy.weight};
+}
+
 namespace {
 // Shirley and Chiu's concentric map of the unit square onto the unit disk (Mitsuba's choice for apertures).
 Vec2 square_to_disk(const Vec2& u) {
