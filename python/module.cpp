@@ -158,6 +158,13 @@ class Model {
 };
 
 // What a training reports to its callback after every step.
+// "lhs" or "rhs", as the CLI's --mode; InputError naming `what` otherwise.
+radiosity::RenderMode render_mode(const std::string& name, const char* what) {
+  if (name == "lhs") return radiosity::RenderMode::lhs;
+  if (name == "rhs") return radiosity::RenderMode::rhs;
+  throw InputError(std::string(what) + ": '" + name + "' is not lhs or rhs");
+}
+
 py::dict step_report(const radiosity::Trainer& trainer, double seconds) {
   py::dict d;
   d["step"] = trainer.steps_done();
@@ -257,8 +264,8 @@ PYBIND11_MODULE(_clradiosity, m) {
       [](const Scene& scene, const std::string& run_dir, const std::string& device, const std::string& preset,
          const std::string& config_file, const std::string& config_json, bool resume,
          const std::function<void(py::dict)>& settings, const std::vector<std::string>& given,
-         const std::string& reference, long eval_every, int eval_spp, const std::string& preview, long preview_every,
-         const std::function<bool(py::dict)>& callback) {
+         const std::string& reference, long eval_every, int eval_spp, const std::string& eval_mode,
+         const std::string& preview, long preview_every, const std::function<bool(py::dict)>& callback) {
         radiosity::TrainRequest request;
         request.scene = scene.path();
         request.parameters = scene.parameters();
@@ -272,6 +279,7 @@ PYBIND11_MODULE(_clradiosity, m) {
         request.evaluation.reference = reference;
         if (eval_every > 0) request.evaluation.every = eval_every;
         if (eval_spp > 0) request.evaluation.spp = eval_spp;
+        if (!eval_mode.empty()) request.evaluation.mode = render_mode(eval_mode, "eval_mode");
         request.preview = preview;
         request.preview_every = preview_every;
         request.given = [given](const char* flag) {
@@ -309,7 +317,8 @@ PYBIND11_MODULE(_clradiosity, m) {
       },
       py::arg("scene"), py::arg("run_dir"), py::arg("device"), py::arg("preset"), py::arg("config_file"),
       py::arg("config_json"), py::arg("resume"), py::arg("settings"), py::arg("given"), py::arg("reference"),
-      py::arg("eval_every"), py::arg("eval_spp"), py::arg("preview"), py::arg("preview_every"), py::arg("callback"));
+      py::arg("eval_every"), py::arg("eval_spp"), py::arg("eval_mode"), py::arg("preview"), py::arg("preview_every"),
+      py::arg("callback"));
 
   py::class_<Model>(m, "Model")
       .def(py::init([](const std::string& run, const std::string& device) {
@@ -322,16 +331,18 @@ PYBIND11_MODULE(_clradiosity, m) {
       .def(
           "render",
           [](Model& model, Scene& scene, int width, int height, int spp, std::uint64_t seed,
-             const std::optional<std::vector<float>>& camera) {
+             const std::optional<std::vector<float>>& camera, const std::string& mode) {
             radiosity::RenderSettings settings;
             settings.width = width;
             settings.height = height;
             settings.spp = spp;
             settings.seed = seed;
+            settings.mode = render_mode(mode, "mode");
             if (spp < 1 || spp > (1 << 16)) throw InputError("spp: " + std::to_string(spp) + " is not in [1, 65536]");
             return model.render(scene, settings, camera);
           },
-          py::arg("scene"), py::arg("width"), py::arg("height"), py::arg("spp"), py::arg("seed"), py::arg("camera"));
+          py::arg("scene"), py::arg("width"), py::arg("height"), py::arg("spp"), py::arg("seed"), py::arg("camera"),
+          py::arg("mode"));
 
   m.def(
       "reference",

@@ -23,7 +23,8 @@ fi
 bundle=${1:-$root/out/device/bundle.tar.xz}
 scenes=${CLR_SHARED_SCENES:-$root/../shared/scenes}
 paper_scenes=(staircase veach-ajar)
-binaries=(clradiosity tests/clr_tests bench/bench_nn bench/bench_guide bench/bench_pipeline)
+# BINARIES (space-separated) packs fewer: a measurement of `run.sh --exec` that needs the CLI alone travels lighter.
+read -r -a binaries <<<"${BINARIES:-clradiosity tests/clr_tests bench/bench_nn bench/bench_guide bench/bench_pipeline}"
 stage=$(mktemp -d)
 trap 'rm -rf "$stage"' EXIT
 mkdir -p "$stage/build" "$stage/lib"

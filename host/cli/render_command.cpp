@@ -173,6 +173,11 @@ Command add_render_command(CLI::App& app) {
   cmd->add_option("--png", opt->png, "Also write a tonemapped sRGB PNG (with --path/--orbit: a flag, one per frame)")
       ->expected(0, 1);
   cmd->add_option("--spp", opt->settings.spp, "Camera rays per pixel (default 4)")->check(CLI::Range(1, 1 << 16));
+  cmd->add_option("--mode", opt->settings.mode,
+                  "lhs (default): the model's radiance where the camera ray lands; rhs: one more bounce there (the "
+                  "direct light by next-event estimation, one BSDF sample, the model where it lands), the Neural "
+                  "Radiosity authors' RHS image")
+      ->transform(CLI::CheckedTransformer(render_modes()));
   cmd->add_option("--width", opt->settings.width, "Image width (default: the scene's film)")
       ->check(CLI::Range(1, 1 << 15));
   cmd->add_option("--height", opt->settings.height, "Image height (default: the scene's film)")

@@ -1,6 +1,7 @@
 // clradiosity train SCENE.xml [--method isnr|nr] [--is-loss ikl|kl] [--bsdf-fraction C] [--samples N] [--batch M]
 //                  [--steps S | --minutes T] [--preset preview|balanced|quality|paper] [--seed K] [--config FILE.json]
-//                  [--reference REF.exr [--eval-every S] [--eval-spp K]] [--preview FILE.png [--preview-every S]]
+//                  [--reference REF.exr [--eval-every S] [--eval-spp K] [--eval-mode lhs|rhs]] [--preview FILE.png
+//                  [--preview-every S]]
 //                  [--resume] -o RUN_DIR
 #include <iostream>
 
@@ -85,6 +86,10 @@ Command add_train_command(CLI::App& app) {
   cmd->add_option("--eval-spp", opt->evaluation.spp,
                   "Camera rays per pixel of an evaluation (default 4, as `render`; a resumed run keeps its own)")
       ->check(CLI::Range(1, 1 << 16))
+      ->needs(reference_option);
+  cmd->add_option("--eval-mode", opt->evaluation.mode,
+                  "The evaluated image, as `render --mode`: lhs (default) or rhs (a resumed run keeps its own)")
+      ->transform(CLI::CheckedTransformer(render_modes()))
       ->needs(reference_option);
   auto* preview_option = cmd->add_option("--preview", opt->preview,
                                          "Keep a small render of the model (PNG, the longer side at most " +

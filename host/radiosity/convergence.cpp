@@ -57,18 +57,21 @@ nlohmann::json evaluation_record(const EvaluationSettings& settings, const image
   // The pixels, not the file's bytes: the same image saved with another compression is the same reference.
   const std::string_view pixels(reinterpret_cast<const char*>(reference.rgb.data()),
                                 reference.rgb.size() * sizeof(float));
-  return {{"reference", Digest().add(pixels).hex()},
-          {"width", reference.width},
-          {"height", reference.height},
-          {"spp", settings.spp}};
+  nlohmann::json record = {{"reference", Digest().add(pixels).hex()},
+                           {"width", reference.width},
+                           {"height", reference.height},
+                           {"spp", settings.spp}};
+  if (settings.mode == RenderMode::rhs) record["mode"] = "rhs";
+  return record;
 }
 
 Evaluation evaluate_model(const geometry::Geometry& geometry, const RadianceQuery& field, const image::Image& reference,
-                          int spp) {
-  RenderSettings settings;  // `render`'s defaults (its seed among them) but for the size and spp
+                          int spp, RenderMode mode) {
+  RenderSettings settings;  // `render`'s defaults (its seed among them) but for the size, spp and mode
   settings.width = reference.width;
   settings.height = reference.height;
   settings.spp = spp;
+  settings.mode = mode;
   Evaluation e;
   const auto start = std::chrono::steady_clock::now();
   e.image = render(geometry, field, settings);

@@ -19,8 +19,9 @@ namespace clr::radiosity {
 // evaluation.json: a resumed run that measured them another way is refused); `every` is only their cadence.
 struct EvaluationSettings {
   std::filesystem::path reference;
-  long every = 0;                  // steps between evaluations (the run's last step is evaluated too)
-  int spp = RenderSettings{}.spp;  // camera rays per pixel, as `render --spp`
+  long every = 0;                     // steps between evaluations (the run's last step is evaluated too)
+  int spp = RenderSettings{}.spp;     // camera rays per pixel, as `render --spp`
+  RenderMode mode = RenderMode::lhs;  // the image, as `render --mode`
 };
 
 // The reference an evaluation compares against: InputError naming `file` when it cannot be read, or when its
@@ -28,7 +29,8 @@ struct EvaluationSettings {
 // another aspect would be another view).
 image::Image read_evaluation_reference(const std::filesystem::path& file, const scene::Camera& camera);
 
-// What RUN_DIR/evaluation.json records of an evaluation: the reference's content (a digest), its size and the spp.
+// What RUN_DIR/evaluation.json records of an evaluation: the reference's content (a digest), its size, the spp and
+// the image mode (recorded only where it is not the default lhs, so that older runs' records still match).
 nlohmann::json evaluation_record(const EvaluationSettings& settings, const image::Image& reference);
 
 struct Evaluation {
@@ -36,10 +38,10 @@ struct Evaluation {
   image::Metrics metrics;
   double render_seconds = 0;  // the render alone, not the comparison
 };
-// Renders `field` with the scene's camera at the reference's size, `spp` rays a pixel and `render`'s default seed,
-// and compares it with the reference (image::compare).
+// Renders `field` with the scene's camera at the reference's size, `spp` rays a pixel in `mode` and `render`'s
+// default seed, and compares it with the reference (image::compare).
 Evaluation evaluate_model(const geometry::Geometry& geometry, const RadianceQuery& field, const image::Image& reference,
-                          int spp);
+                          int spp, RenderMode mode = RenderMode::lhs);
 
 // The size of a preview of the model: the film scaled down (never up) so that its longer side has at most
 // kPreviewSide pixels.

@@ -4,8 +4,43 @@
 #include <map>
 
 #include "common/parallel.hpp"
+#include "geometry/delta_lighting.hpp"
+#include "radiosity/training_lights.hpp"
 
 namespace clr::radiosity {
+namespace {
+
+// Replaces the end of `path` at the modelled surface x by one sample of x's right-hand side: the direct term added
+// to path.emitted, and the BSDF-sampled direction followed to the next modelled surface, whose emission takes the
+// MIS weight training gives it (training_batch.cpp) and whose lookup becomes path's.
+void one_bounce(const geometry::Geometry& geometry, std::span<const scene::DeltaLight> deltas,
+                const geometry::LightSampler& lights, bool sun, int max_delta_bounces, Pcg32& rng, PathEnd& path) {
+  const geometry::SurfacePoint x = path.point;
+  const Vec3 wo = path.wo;
+  const scene::BsdfPoint bsdf = x.bsdf(geometry.scene());
+  Rgb direct(0.0f);
+  if (!deltas.empty()) direct += geometry::reflected_delta_lights(geometry, x, bsdf, wo, deltas);
+  if (!lights.empty()) direct += geometry::next_event(geometry, lights, x, bsdf, wo, rng);
+  path.emitted += path.throughput * direct;
+  path.at_surface = false;
+  const float u_lobe = rng.next_float();
+  const auto bs = bsdf.sample(wo, u_lobe, {rng.next_float(), rng.next_float()});
+  if (!bs) return;
+  PathEnd next =
+      trace_to_surface(geometry, {x.spawn_origin(bs->wi), 0.0f, bs->wi}, rng, max_delta_bounces, bs->delta || !sun);
+  if (!lights.empty() && !bs->delta && !scene::is_black(next.first_emitted)) {
+    const float p_light = lights.pdf_hit(next.first_hit ? &*next.first_hit : nullptr, x.position, bs->wi);
+    next.emitted -= next.first_emitted * (1.0f - geometry::power_heuristic(bs->pdf, p_light));
+  }
+  const Rgb throughput = path.throughput * bs->weight;
+  path.emitted += throughput * next.emitted;
+  path.throughput = throughput * next.throughput;
+  path.at_surface = next.at_surface;
+  path.point = next.point;
+  path.wo = next.wo;
+}
+
+}  // namespace
 
 image::Image render(const geometry::Geometry& geometry, const RadianceQuery& field, const RenderSettings& settings) {
   image::Image out;
@@ -32,6 +67,14 @@ void render_frames(const geometry::Geometry& geometry, std::span<const scene::Ca
   // on the chunking nor on the frames beside it.
   const std::size_t total = per_frame * views.size();
   const std::size_t chunk = std::max<std::size_t>(1, settings.rows_per_query);
+  // The right-hand side's direct term: training's lights (radiosity/training_lights.hpp), so that the image's
+  // estimator is the one the model was trained to match.
+  const bool rhs = settings.mode == RenderMode::rhs;
+  const scene::Scene& scene = geometry.scene();
+  const std::vector<scene::DeltaLight> deltas = rhs ? training_delta_lights(scene) : std::vector<scene::DeltaLight>{};
+  const std::optional<geometry::LightSampler> lights =
+      rhs ? std::optional(training_light_sampler(scene)) : std::nullopt;
+  const bool sun = scene.environment && scene.environment->sun_as_directional();
   std::map<std::size_t, image::Image> open;  // frames with samples in, not yet complete
   std::vector<float> rows, rgb, throughput, emitted;
   std::vector<std::int64_t> lookup;
@@ -52,8 +95,9 @@ void render_frames(const geometry::Geometry& geometry, std::span<const scene::Ca
         const scene::Vec2 lens =
             view.aperture_radius > 0 ? scene::Vec2(rng.next_float(), rng.next_float()) : scene::Vec2(0.5f);
         const auto ray = view.ray(ps.px, ps.py, lens);
-        const PathEnd path = trace_to_surface(geometry, {ray.origin, ray.tnear, ray.direction, ray.tfar}, rng,
-                                              settings.max_delta_bounces);
+        PathEnd path = trace_to_surface(geometry, {ray.origin, ray.tnear, ray.direction, ray.tfar}, rng,
+                                        settings.max_delta_bounces);
+        if (rhs && path.at_surface) one_bounce(geometry, deltas, *lights, sun, settings.max_delta_bounces, rng, path);
         for (int c = 0; c < 3; ++c) {
           emitted[3 * i + c] = path.emitted[c] * ps.weight;
           throughput[3 * i + c] = path.throughput[c] * ps.weight;

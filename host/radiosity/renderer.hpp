@@ -1,7 +1,11 @@
 #pragma once
 // Rendering from a radiance field (docs/design.md §2): camera ray → delta bounces followed → at the first modelled
-// surface x, Le(x) + L(x, −d). `spp` camera rays per pixel, drawn from the film's reconstruction filter as the path
-// tracer draws them (scene/pixel_filter.hpp).
+// surface x, Le(x) + L(x, −d) (the left-hand side of the rendering equation, the default), or Le(x) plus one sample
+// of its right-hand side (`Mode::rhs`, the Neural Radiosity authors' "RHS" image): the direct light by training's
+// next-event estimation and one BSDF-sampled direction to the next modelled surface y, where Le + L(y, −ω) closes
+// it. The right-hand side carries the BSDF's and the textures' detail exactly and the model's error only through an
+// integral; it costs a light sample and a second trace a camera sample, and its Monte Carlo noise. `spp` camera
+// rays per pixel, drawn from the film's reconstruction filter as the path tracer draws them (scene/pixel_filter.hpp).
 #include <functional>
 #include <span>
 
@@ -14,9 +18,12 @@ namespace clr::radiosity {
 // Scattered radiance for `rows` raw input rows (nn/encoder.hpp layout) → rows × 3 RGB.
 using RadianceQuery = std::function<void(std::span<const float> raw_rows, std::span<float> rgb)>;
 
+enum class RenderMode { lhs, rhs };
+
 struct RenderSettings {
   int width = 0, height = 0;  // 0: the scene's film
   int spp = 4;
+  RenderMode mode = RenderMode::lhs;
   std::uint64_t seed = 1;
   int max_delta_bounces = 8;
   std::size_t rows_per_query = 1 << 16;  // lookups per call of the field: bounds host and device memory

@@ -161,21 +161,31 @@ TrainOutcome train(const TrainRequest& request) {
   const auto field = radiance_query(ctx, trainer.network());
   auto evaluation = opt.evaluation;
   if (evaluate) {
-    // A resumed run's columns keep measuring what they measured: its spp unless given, and the same reference.
+    // A resumed run's columns keep measuring what they measured: its spp and image mode unless given, and the same
+    // reference. The record names the mode only where it is rhs, so an lhs given against it is refused here.
     const auto record_file = RunDirectory::evaluation_path(opt.run_dir);
-    if (opt.resume && !given("--eval-spp") && std::filesystem::exists(record_file)) {
+    if (opt.resume && std::filesystem::exists(record_file)) {
       const auto record = read_json_file(record_file, "evaluation record");
-      if (record.is_object() && record.contains("spp") && record["spp"].is_number_integer())
+      if (!given("--eval-spp") && record.is_object() && record.contains("spp") && record["spp"].is_number_integer())
         evaluation.spp = record["spp"].get<int>();
+      const bool recorded_rhs = record.is_object() && record.contains("mode") && record["mode"] == "rhs";
+      if (!given("--eval-mode")) evaluation.mode = recorded_rhs ? RenderMode::rhs : RenderMode::lhs;
+      if (recorded_rhs && evaluation.mode != RenderMode::rhs)
+        throw InputError(opt.run_dir + " holds evaluation columns in log.csv made with other settings: " +
+                         "--eval-mode was rhs, now lhs (" + record_file.string() +
+                         "); results made both ways would share one folder: use another");
     }
     require_same_record(record_file, evaluation_record(evaluation, *reference), "evaluation columns in log.csv",
                         {{"reference", "--reference (its pixels)"},
                          {"width", "--reference (its width)"},
                          {"height", "--reference (its height)"},
-                         {"spp", "--eval-spp"}});
+                         {"spp", "--eval-spp"},
+                         {"mode", "--eval-mode"}});
     if (!given("--eval-every")) evaluation.every = trainer.config().checkpoint_every;
     watch.evaluate_every = evaluation.every;
-    watch.evaluate = [&] { return evaluate_model(geometry, field, *reference, evaluation.spp).metrics; };
+    watch.evaluate = [&] {
+      return evaluate_model(geometry, field, *reference, evaluation.spp, evaluation.mode).metrics;
+    };
   }
   const auto write_preview = [&] {
     image::write_png(opt.preview, render(geometry, field, preview_settings(scene.camera)));

@@ -84,7 +84,8 @@ _SETTINGS = {flag[2:].replace("-", "_"): (tuple(pointer.strip("/").split("/")), 
 
 
 def train(scene, out, *, steps=None, minutes=None, method=None, config=None, preset=None, device=None, resume=False,
-          reference=None, eval_every=None, eval_spp=None, preview=None, preview_every=None, callback=None, **settings):
+          reference=None, eval_every=None, eval_spp=None, eval_mode=None, preview=None, preview_every=None, callback=None,
+          **settings):
     """Trains a model of ``scene`` (a Scene or a path) into the run directory ``out``, as `clradiosity train`, and
     returns its Run.
 
@@ -92,7 +93,8 @@ def train(scene, out, *, steps=None, minutes=None, method=None, config=None, pre
     (default) or "nr". ``config``: a dict of settings or a JSON file, as --config. More settings by keyword, as the
     flags: is_loss, residual, nee (True/False), samples, batch, seed, bsdf_fraction, learning_rate, guide_learning_rate,
     gemm.
-    ``reference`` (an EXR path) logs MAPE/MSE/relMSE in log.csv every ``eval_every`` steps, as --reference.
+    ``reference`` (an EXR path) logs MAPE/MSE/relMSE in log.csv every ``eval_every`` steps, as --reference, of
+    images at ``eval_spp`` in ``eval_mode`` ("lhs" or "rhs", as Run.render's ``mode``).
     ``callback(report)`` is called after every step with {'step', 'loss', 'seconds'}; returning False ends the run
     there, with its checkpoint.
     """
@@ -126,11 +128,14 @@ def train(scene, out, *, steps=None, minutes=None, method=None, config=None, pre
         flags.append("--eval-every")
     if eval_spp is not None:
         flags.append("--eval-spp")
+    if eval_mode is not None:
+        flags.append("--eval-mode")
     if preview_every is not None:
         flags.append("--preview-every")
     _native.train(scene, os.fspath(out), device or "", preset or "", config_file, config_json, bool(resume), apply,
                   flags, os.fspath(reference) if reference is not None else "", int(eval_every or 0),
-                  int(eval_spp or 0), os.fspath(preview) if preview is not None else "", int(preview_every or 0),
+                  int(eval_spp or 0), str(eval_mode or ""), os.fspath(preview) if preview is not None else "",
+                  int(preview_every or 0),
                   report if callback is not None else None)
     return Run(out, scene=scene, device=device)
 
@@ -186,12 +191,13 @@ class Run:
         log = self.log
         return int(log[-1]["step"]) if log else 0
 
-    def render(self, width=0, height=0, spp=4, seed=1, camera=None, scene=None):
-        """The model's image (H, W, 3) float32: Le + L at the first non-delta hit of each camera ray, as `render`.
+    def render(self, width=0, height=0, spp=4, seed=1, camera=None, scene=None, mode="lhs"):
+        """The model's image (H, W, 3) float32, as `render`: ``mode`` "lhs", Le + L at the first non-delta hit of
+        each camera ray, or "rhs", one more bounce there (the direct light and one BSDF sample, L where it lands).
         ``width``/``height``: 0 keeps the film's. ``camera``: 10 numbers (origin, target, up, vertical fov) for
         another view. ``scene``: another instance of the run's scene (e.g. loaded with other parameters)."""
         return _array(self.model.render(_scene(scene) if scene is not None else self.scene, int(width), int(height),
-                                        int(spp), int(seed), _camera(camera)))
+                                        int(spp), int(seed), _camera(camera), str(mode)))
 
     def __repr__(self):
         return "Run(%r)" % self.dir

@@ -107,6 +107,12 @@ def test_render_is_the_cli_render_bit_for_bit(trained, box, tmp_path):
     assert r.returncode == 0, r.stderr
     assert np.array_equal(cr.read_image(tmp_path / "v.exr"), other)
     assert not np.array_equal(other, image)
+    rhs = run.render(spp=2, seed=3, mode="rhs")
+    r = cli("render", BOX, "-D", "res=32", "--model", run.dir, "--spp", 2, "--seed", 3, "--mode", "rhs", "-o",
+            tmp_path / "rhs.exr")
+    assert r.returncode == 0, r.stderr
+    assert np.array_equal(cr.read_image(tmp_path / "rhs.exr"), rhs)
+    assert not np.array_equal(rhs, image)
 
 
 def test_render_refuses_another_scene_and_bad_views(trained):
@@ -117,6 +123,8 @@ def test_render_refuses_another_scene_and_bad_views(trained):
         run.render(camera=[0, 0, 0, 0, 0, 0, 0, 1, 0, 30])
     with pytest.raises(ValueError, match="camera"):
         run.render(camera=[1, 2, 3])
+    with pytest.raises(ValueError, match="mode"):
+        run.render(mode="both")
 
 
 def test_load_run_finds_its_scene(trained):

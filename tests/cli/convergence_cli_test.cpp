@@ -151,6 +151,34 @@ TEST_F(ConvergenceCli, ResumedRunContinuesTheColumns) {
   EXPECT_EQ(nlohmann::json::parse(text_of(run / "evaluation.json"))["spp"], 2);
 }
 
+// The image mode is part of what the columns measure: a resumed rhs run keeps rhs without --eval-mode and refuses an
+// lhs given (the record names the mode only where it is rhs); an lhs run refuses rhs.
+TEST_F(ConvergenceCli, ResumedRunKeepsItsImageMode) {
+  const fs::path rhs = dir / "rhs", lhs = dir / "lhs";
+  auto r = run_cli("train " + kBox + " --steps 10 --config " + config + " --reference " + reference +
+                   " --eval-every 10 --eval-spp 1 --eval-mode rhs -o " + rhs.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(text_of(rhs / "evaluation.json"))["mode"], "rhs");
+  r = run_cli("train " + kBox + " --resume --steps 20 --reference " + reference + " --eval-mode lhs -o " +
+              rhs.string());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("--eval-mode"));
+  r = run_cli("train " + kBox + " --resume --steps 20 --reference " + reference + " -o " + rhs.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(Log(rhs / "log.csv").at(20, "mape"), "");
+  r = run_cli("train " + kBox + " --steps 10 --config " + config + " --reference " + reference +
+              " --eval-every 10 --eval-spp 1 -o " + lhs.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_cli("train " + kBox + " --resume --steps 20 --reference " + reference + " --eval-mode rhs -o " +
+              lhs.string());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("--eval-mode"));
+  r = run_cli("train " + kBox + " --steps 10 --reference " + reference + " --eval-mode both -o " +
+              (dir / "bad").string());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("--eval-mode"));
+}
+
 TEST_F(ConvergenceCli, OlderRunGainsTheColumnsOnResume) {
   const fs::path run = dir / "old";
   auto r = run_cli("train " + kBox + " --steps 10 --config " + config + " -o " + run.string());
