@@ -1,8 +1,10 @@
 #pragma once
 // Light from infinitely far away: Mitsuba's `constant`, `envmap` (lat-long image) and `sunsky` emitters. The envmap is
-// looked up bilinearly between texel centres, as Mitsuba 3 looks it up (a nearest-texel lookup lit a diffuse sphere 0.3
-// % darker than Mitsuba and showed its texels), and importance-sampled by a piecewise-constant density proportional to
-// luminance · sin θ; sample() reports that density, which pdf() gives too, and the bilinear radiance. A sunsky is
+// looked up bilinearly between texels placed as Mitsuba 3 places them — columns at texel centres, rows from pole to
+// pole (a nearest-texel lookup lit a diffuse sphere 0.3 % darker than Mitsuba and showed its texels; texel-centred
+// rows left a plane under a map 0.4 % dark) — and importance-sampled by a piecewise-constant density proportional to
+// luminance · sin θ over cells of the image's grid; sample() reports that density, which pdf() gives too, and the
+// bilinear radiance. A sunsky is
 // evaluated analytically; its sky is sampled by such a table of itself and its sun by a direction uniform in the
 // disc's cone, each by its share of the power.
 #include <filesystem>
@@ -38,8 +40,9 @@ class Environment {
 
  private:
   void set_to_world(const glm::mat4& to_world);
-  // The sampling table from pixels_; returns Σ luminance · sin θ over them (0: all black, no table).
-  double build_table();
+  // The sampling table from a luminance per cell of the image's grid; returns Σ luminance · sin θ over the cells
+  // (0: all black, no table).
+  double build_table(const std::vector<float>& cell_luminance);
   Sample sample_table(const Vec2& u) const;
   float pdf_table(const Vec3& dir) const;
   Vec2 to_uv(const Vec3& local) const;

@@ -38,7 +38,8 @@ TEST_P(EnvironmentLight, ADiffuseSphereReflectsTheMapsIntegral) {
   const auto s = scene::load_scene(scene(R"(
     <sensor type="perspective"><float name="fov" value="22"/>
       <transform name="to_world"><lookat origin="0, -6, 0" target="0, 0, 0" up="0, 0, 1"/></transform>
-      <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>
+      <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/>
+        <rfilter type="box"/></film></sensor>
     <emitter type="envmap"><string name="filename" value="map.exr"/>
       <transform name="to_world">)" + std::string(GetParam()) +
                                          R"(</transform></emitter>
@@ -68,7 +69,8 @@ TEST_P(EnvironmentLight, ADiffuseSphereReflectsTheMapsIntegral) {
   int pixels = 0;
   for (int y = 0; y < a.height; ++y)
     for (int x = 0; x < a.width; ++x) {
-      // Wholly: its corners too, or the render's pixel would hold some of the (brighter) background.
+      // Wholly: its corners too, or the render's pixel would hold some of the (brighter) background (the film's box
+      // filter keeps a pixel's samples within it).
       bool on_sphere = true;
       for (int k = 0; k < 4; ++k) {
         const auto r = s.camera.ray(float(x + k % 2), float(y + k / 2));

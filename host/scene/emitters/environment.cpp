@@ -47,7 +47,22 @@ Environment Environment::envmap(const std::filesystem::path& path, float scale, 
                          std::to_string(y) + ")");
       e.pixels_[i] = c;
     }
-  if (!(e.build_table() > 0)) throw InputError(path.string() + ": environment map is black");
+  // A table cell's weight: the brightest texel whose bilinear support reaches into it (rows at v = i / (H − 1),
+  // columns at u = (j + ½) / W; lookup() below), so the density is never zero where the radiance is not.
+  const int W = e.width_, H = e.height_;
+  std::vector<float> cell(e.pixels_.size(), 0.0f);
+  for (int y = 0; y < H; ++y) {
+    const float t0 = float(y) * float(H - 1) / float(H), t1 = float(y + 1) * float(H - 1) / float(H);
+    const int r0 = std::max(0, int(std::floor(t0))), r1 = std::min(H - 1, int(std::ceil(t1)));
+    for (int x = 0; x < W; ++x) {
+      float most = 0;
+      for (int r = r0; r <= r1; ++r)
+        for (int dx = -1; dx <= 1; ++dx)
+          most = std::fmax(most, luminance(e.pixels_[std::size_t(r) * std::size_t(W) + std::size_t((x + dx + W) % W)]));
+      cell[std::size_t(y) * std::size_t(W) + std::size_t(x)] = most;
+    }
+  }
+  if (!(e.build_table(cell) > 0)) throw InputError(path.string() + ": environment map is black");
   return e;
 }
 
@@ -68,20 +83,22 @@ Environment Environment::sunsky(const SunSky& model, const glm::mat4& to_world) 
     }
   // The sun's share of the draws: its power against the sky's (luminance over solid angle; a texel spans
   // 2π/width · π/height in φ and θ, times sin θ, which the table's weights hold).
-  const double sky = e.build_table() * (2 * M_PI / e.width_) * (M_PI / e.height_);
+  std::vector<float> sky_luminance(e.pixels_.size());
+  for (std::size_t i = 0; i < e.pixels_.size(); ++i) sky_luminance[i] = luminance(e.pixels_[i]);
+  const double sky = e.build_table(sky_luminance) * (2 * M_PI / e.width_) * (M_PI / e.height_);
   const double sun = luminance(model.sun_radiance()) * model.sun_solid_angle();
   e.sun_probability_ = !(sky > 0) ? 1.0f : float(sun / (sun + sky));
   return e;
 }
 
-double Environment::build_table() {
+double Environment::build_table(const std::vector<float>& cell_luminance) {
   weights_.resize(pixels_.size());
   double total = 0;
   for (int y = 0; y < height_; ++y) {
     const float sin_theta = std::sin(kPi * (float(y) + 0.5f) / float(height_));
     for (int x = 0; x < width_; ++x) {
       const std::size_t i = std::size_t(y) * std::size_t(width_) + std::size_t(x);
-      weights_[i] = std::fmax(luminance(pixels_[i]), 0.0f) * sin_theta;
+      weights_[i] = std::fmax(cell_luminance[i], 0.0f) * sin_theta;
       total += weights_[i];
     }
   }
@@ -119,8 +136,10 @@ float Environment::pixel_pdf(int x, int y) const {
   return weights_[std::size_t(y) * std::size_t(width_) + std::size_t(x)];  // mean-normalised: a density in uv
 }
 
+// Mitsuba 3's envmap convention (checked against its own eval): texel column j at u = (j + ½) / W, wrapping
+// around, and texel row i at v = i / (H − 1), the first and last rows on the poles.
 Rgb Environment::lookup(const Vec2& uv) const {
-  const float x = uv.x * float(width_) - 0.5f, y = uv.y * float(height_) - 0.5f;
+  const float x = uv.x * float(width_) - 0.5f, y = uv.y * float(height_ - 1);
   const float x_floor = std::floor(x), y_floor = std::floor(y), ax = x - x_floor, ay = y - y_floor;
   const int x0 = ((int(x_floor) % width_) + width_) % width_, x1 = (x0 + 1) % width_;
   const int y0 = std::clamp(int(y_floor), 0, height_ - 1), y1 = std::clamp(int(y_floor) + 1, 0, height_ - 1);
