@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 
 #include "cl/context.hpp"
 #include "cli/command.hpp"
@@ -47,13 +48,17 @@ int run_main_job(double minutes, const std::string& preset) {
     std::cerr << "clradiosity: training " << scene_path.string() << " for " << config.minutes << " min on "
               << ctx.device().describe() << "\n";
 
-  // The reference depends only on the scene and these settings, so it is rendered once and reused; one that no
-  // longer fits (another size, unreadable) is found before training, not after it, and made again.
+  // The reference depends only on the scene, its pixel filter and these settings, so it is rendered once and
+  // reused; one that no longer fits (another size, another filter — one made before the filter was recorded —
+  // unreadable) is found before training, not after it, and made again.
   const fs::path ref_path = out / "cornell-box-reference-1024spp.exr";
+  const std::string filter = scene.camera.filter.describe();
   if (fs::exists(ref_path)) {
     try {
-      const auto kept = image::read_exr(ref_path);
+      std::map<std::string, std::string> attributes;
+      const auto kept = image::read_exr(ref_path, &attributes);
       image::require_matching_size(kept.width, kept.height, scene.camera.width, scene.camera.height);
+      if (attributes["pixelFilter"] != filter) fs::remove(ref_path);
     } catch (const InputError&) {
       fs::remove(ref_path);
     }
@@ -81,7 +86,9 @@ int run_main_job(double minutes, const std::string& preset) {
     ref.progress = true;
     reference::RenderStats stats;
     const auto traced = reference::render(geometry, ref, &stats);
-    image::write_exr(ref_path, traced, exr_metadata(digest, ref.spp, ref.seed, stats.seconds));
+    auto attributes = exr_metadata(digest, ref.spp, ref.seed, stats.seconds);
+    attributes["pixelFilter"] = filter;
+    image::write_exr(ref_path, traced, attributes);
   }
   const auto ref = image::read_exr(ref_path);
   const auto m = image::compare(img, ref);

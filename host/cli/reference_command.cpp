@@ -27,6 +27,7 @@ std::map<std::string, std::string> identity(const std::string& scene_digest, con
           {"sensor", std::to_string(sensor)},
           {"size", std::to_string(camera.width) + "x" + std::to_string(camera.height)},
           {"maxDepth", std::to_string(max_depth)},
+          {"pixelFilter", camera.filter.describe()},
           {"seed", std::to_string(seed)}};
 }
 

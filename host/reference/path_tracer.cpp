@@ -21,12 +21,18 @@ using scene::Rgb;
 using scene::Vec2;
 using scene::Vec3;
 
-// Russian roulette starts after this many bounces: short paths carry most of the image and stay noise-free.
+// Russian roulette starts after this many bounces unless the scene's integrator names its rr_depth: short paths
+// carry most of the image and stay noise-free.
 constexpr int kRouletteDepth = 3;
 
 class PathTracer {
  public:
-  PathTracer(const geometry::Geometry& g, int max_depth) : g_(g), s_(g.scene()), lights_(s_), max_depth_(max_depth) {}
+  PathTracer(const geometry::Geometry& g, int max_depth)
+      : g_(g),
+        s_(g.scene()),
+        lights_(s_),
+        max_depth_(max_depth),
+        roulette_depth_(s_.rr_depth.value_or(kRouletteDepth)) {}
 
   Rgb radiance(geometry::Ray ray, Pcg32& rng, std::uint64_t& rays) const {
     Rgb L(0.0f), beta(1.0f);
@@ -63,7 +69,7 @@ class PathTracer {
       prev_position = sp.position;
       ray = {sp.spawn_origin(bs->wi), 0.0f, bs->wi};
       if (scene::is_black(beta)) break;
-      if (depth + 1 >= kRouletteDepth) {
+      if (depth + 1 >= roulette_depth_) {
         const float q = std::fmin(scene::max_component(beta), 0.95f);
         if (rng.next_float() >= q) break;
         beta /= q;
@@ -76,7 +82,7 @@ class PathTracer {
   const geometry::Geometry& g_;
   const scene::Scene& s_;
   geometry::LightSampler lights_;
-  int max_depth_;
+  int max_depth_, roulette_depth_;
 };
 
 }  // namespace

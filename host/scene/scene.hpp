@@ -48,6 +48,8 @@ struct Scene {
   Camera camera;
   // The scene's integrator max_depth (longest path in segments, Mitsuba's convention); -1: unbounded.
   int max_depth = -1;
+  // Its rr_depth, where it names one: the depth from which the path tracer plays Russian roulette.
+  std::optional<int> rr_depth;
   // The sensor's <sampler> sample_count (Mitsuba's samples per pixel), which `reference` takes when given no --spp;
   // nullopt where the scene names none.
   std::optional<int> sample_count;

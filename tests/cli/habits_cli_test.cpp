@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -270,6 +271,21 @@ TEST_F(HabitsCli, ReferenceKeepsItsPassesOnCtrlCAndResumes) {
     r = run_cli("reference " + kBox + " " + settings + " --spp 12 --resume -o " + part.string());
     EXPECT_EQ(r.exit_code, 2) << settings;
     EXPECT_THAT(r.err, HasSubstr("its " + named + " is")) << settings << "\n" << r.err;
+  }
+  // The same box with a box pixel filter (the bundled one names none: Mitsuba's gaussian) draws other samples.
+  {
+    std::ifstream in(kBox);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string film = "<film type=\"hdrfilm\">";
+    ASSERT_NE(text.find(film), std::string::npos);
+    text.replace(text.find(film), film.size(), film + "<rfilter type=\"box\"/>");
+    std::ofstream(dir / "box-filtered.xml") << text;
+    r = run_cli("reference " + (dir / "box-filtered.xml").string() +
+                " --width 24 --height 16 --seed 3 --spp 12 "
+                "--resume -o " +
+                part.string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_THAT(r.err, HasSubstr("its pixelFilter is")) << r.err;
   }
   EXPECT_EQ(fs::last_write_time(part), written);
   r = run_cli(base + "--spp 12 --resume -o " + (dir / "p.png").string());

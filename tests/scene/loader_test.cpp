@@ -325,6 +325,34 @@ TEST_F(Loader, BitmapFormatStoresTexelsAtItsPrecision) {
   EXPECT_THROW(texel("fixed16", 0), InputError);
 }
 
+// The reference converges to what the scene's integrator renders: the innermost transport integrator's path length
+// (through aov and moment wrappers), `direct` as emission plus one bounce, its rr_depth; an integrator clradiosity
+// does not implement renders as `path` (and says so on stderr); impossible depths are refused naming them.
+TEST_F(Loader, TheIntegratorSetsWhatTheReferenceRenders) {
+  const auto load = [&](const std::string& integrator) { return scene::load_scene(scene(integrator)); };
+  EXPECT_EQ(load("").max_depth, -1);
+  EXPECT_EQ(load(R"(<integrator type="direct"/>)").max_depth, 2);
+  EXPECT_EQ(load(R"(<integrator type="direct"><integer name="emitter_samples" value="4"/></integrator>)").max_depth, 2);
+  auto s = load(R"(<integrator type="volpath"><integer name="max_depth" value="7"/>
+                     <integer name="rr_depth" value="9"/></integrator>)");
+  EXPECT_EQ(s.max_depth, 7);
+  EXPECT_EQ(s.rr_depth, 9);
+  EXPECT_EQ(load(R"(<integrator type="path"/>)").rr_depth, std::nullopt);
+  EXPECT_EQ(load(R"(<integrator type="aov"><string name="aovs" value="nn:sh_normal"/>
+                      <integrator type="path"><integer name="max_depth" value="4"/></integrator></integrator>)")
+                .max_depth,
+            4);
+  EXPECT_EQ(load(R"(<integrator type="moment"><integrator type="direct"/></integrator>)").max_depth, 2);
+  // A max_depth on the wrapper is not the inner integrator's.
+  EXPECT_EQ(
+      load(R"(<integrator type="moment"><integer name="max_depth" value="3"/><integrator type="path"/></integrator>)")
+          .max_depth,
+      -1);
+  EXPECT_EQ(load(R"(<integrator type="depth"/>)").max_depth, -1);
+  EXPECT_THROW(load(R"(<integrator type="path"><integer name="max_depth" value="-4"/></integrator>)"), InputError);
+  EXPECT_THROW(load(R"(<integrator type="path"><integer name="rr_depth" value="0"/></integrator>)"), InputError);
+}
+
 TEST_F(Loader, EmittersAndIgnoredElements) {
   image::Image env(8, 4);
   for (int y = 0; y < 4; ++y)

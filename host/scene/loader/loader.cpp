@@ -312,19 +312,55 @@ class Loader final : public loader::Context {
     }
   }
 
-  // clradiosity's own integrators decide how to render; only the path length changes what the image converges to,
-  // so it becomes the reference's default (the scenes' reference renders were made with it). Integrators that
-  // need what clradiosity does not model (polarization) are refused.
+  // The scene's integrator sets what `reference` converges to: the innermost light-transport integrator (an `aov` or
+  // `moment` wrapper renders the one nested in it) with its path length — `path` and its kin their max_depth,
+  // `direct` emission plus one bounce — and roulette depth. Training solves the whole transport whatever it says.
+  // Integrators that need what clradiosity does not model (polarization) are refused; others it does not implement
+  // are rendered as `path` and named in one line on stderr.
   void integrator(const Node& n, bool top) {
     if (const char* why = loader::refused_plugin("integrator", n.attr_or("type", ""))) n.fail(why);
     for (const Node& c : n.children())
       if (c.tag() == "integrator") integrator(c, false);
     if (!top) return;
-    for (const Node& c : n.children())
-      if (c.tag() == "integer" && c.attr("name") == "max_depth") {
-        const Props p(n);
-        scene_.max_depth = p.integer("max_depth", -1);
-      }
+    Node transport = n;  // Nodes are handles into the parsed file: copies are cheap
+    for (bool wrapper = true; wrapper;) {
+      wrapper = false;
+      for (const Node& c : transport.children())
+        if (c.tag() == "integrator") {
+          transport = c;
+          wrapper = true;
+          break;
+        }
+    }
+    const std::string type = transport.attr_or("type", "");
+    const Props p(transport);
+    // Mitsuba 3's path tracers (and their 0.x names): the same converged image for a given max_depth.
+    static const std::set<std::string> paths = {
+        "path",           "volpath",           "volpathmis", "prb",  "prbvolpath",    "prb_basic",
+        "prb_projective", "direct_projective", "ptracer",    "bdpt", "pssmlt",        "mlt",
+        "erpt",           "photonmapper",      "sppm",       "ppm",  "volpath_simple"};
+    scene_.max_depth = -1;
+    scene_.rr_depth.reset();
+    if (type == "direct") {
+      // Emitted light plus one bounce of direct light: the path tracer's two-segment paths (Mitsuba's emitter and
+      // BSDF sample counts change its noise, not its image).
+      scene_.max_depth = 2;
+    } else if (paths.count(type)) {
+      if (p.has("max_depth")) scene_.max_depth = p.integer("max_depth", -1);
+      if (p.has("rr_depth")) scene_.rr_depth = p.integer("rr_depth", 5);
+    } else {
+      std::fprintf(stderr, "%s: warning: integrator '%s' is not implemented: `reference` renders it as 'path'%s\n",
+                   clr::terminal_safe(transport.where()).c_str(), clr::terminal_safe(type).c_str(),
+                   p.has("max_depth") ? " with its max_depth" : "");
+      if (p.has("max_depth")) scene_.max_depth = p.integer("max_depth", -1);
+    }
+    if (transport.where() != n.where())
+      std::fprintf(stderr, "%s: note: integrator '%s' wraps '%s': `reference` renders the inner one\n",
+                   clr::terminal_safe(n.where()).c_str(), clr::terminal_safe(n.attr_or("type", "")).c_str(),
+                   clr::terminal_safe(type).c_str());
+    if (scene_.max_depth < -1)
+      p.expect("max_depth", {"integer"}).fail("max_depth must be -1 (unbounded) or at least 0");
+    if (scene_.rr_depth && *scene_.rr_depth < 1) p.expect("rr_depth", {"integer"}).fail("rr_depth must be at least 1");
   }
 
   // ---- BSDFs ----------------------------------------------------------------------------------------------------
