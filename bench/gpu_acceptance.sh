@@ -363,7 +363,7 @@ paper_scene() {
       ref=$runs/$label-${w}x${h}-${ref_spp}spp.exr ref_w=$w ref_h=$h
       local limit=$(($(time_left) - reserve_s))
       note "== paper $label: reference ${w}x${h} at $ref_spp spp (limit ${limit}s)"
-      [ "$limit" -gt 0 ] && timeout "$limit" "$clr" reference "$scene" --spp "$ref_spp" --width "$w" --height "$h" \
+      [ "$limit" -gt 0 ] && timeout "$limit" "$clr" reference "$scene" --max-depth -1 --spp "$ref_spp" --width "$w" --height "$h" \
         -o "$ref" >>"$log" 2>&1
       [ -f "$ref" ] || { note "== paper $label: no reference"; return; }
       p_evaluation[$label]="path traced ${w}x${h} at $ref_spp spp"

@@ -109,7 +109,7 @@ for s in "$@"; do
     ref_note="path-traced by clradiosity reference, ${w}x${h}, $ref_spp spp"
     if [ ! -f "$ref" ]; then
       echo "== $name: reference ${w}x${h} at $ref_spp spp"
-      "$bin" reference "$scene" --spp "$ref_spp" --width "$w" --height "$h" -o "$ref"
+      "$bin" reference "$scene" --max-depth -1 --spp "$ref_spp" --width "$w" --height "$h" -o "$ref"
     fi
   fi
   echo "== $name: evaluations at ${w}x${h}, $eval_spp spp, every $eval_every steps against $ref_note"
@@ -189,7 +189,7 @@ PY
   while :; do
     image=$pt/spp$spp.exr
     if ! grep -q "^$spp," "$points"; then
-      line=$("$bin" reference "$scene" --spp "$spp" --width "$w" --height "$h" --seed 2 -o "$image" | tail -n 1)
+      line=$("$bin" reference "$scene" --max-depth -1 --spp "$spp" --width "$w" --height "$h" --seed 2 -o "$image" | tail -n 1)
       # "OUT: WxH, S spp, T s, …": the render's own time, without loading the scene.
       seconds=$(sed -n 's/.* spp, \([0-9.]*\) s, .*/\1/p' <<<"$line")
       metrics=$("$bin" compare "$image" "$ref" --json)

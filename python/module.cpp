@@ -100,7 +100,9 @@ class Scene {
 
 // Runs `work` without the GIL, stoppable by SIGINT/SIGTERM where the caller is Python's main thread (only it runs
 // Python's signal handlers; elsewhere the process's handlers stay as they are). A stop ends the work at its next
-// safe point; then SIGINT raises KeyboardInterrupt and SIGTERM ends the process as Python's default would. A stop a
+// safe point; then Python's handler for the signal runs (SIGINT's default raises KeyboardInterrupt), or, where
+// there is none, SIGINT raises KeyboardInterrupt and SIGTERM ends the process as Python's default would. A signal
+// Python ignores does not stop the work. A stop a
 // callback requested (request_stop) is forgotten after the call, on any thread.
 template <class Work>
 auto stoppable(Work&& work) {
@@ -114,7 +116,14 @@ auto stoppable(Work&& work) {
     signal = stop_signal();
     return r;
   }();
+  const bool host_handled = signal != 0 && handlers->host_handles(signal);
   handlers.reset();
+  // Python's own handler (its default raises KeyboardInterrupt; a program's may do anything) saw the signal too:
+  // it runs now, and decides.
+  if (host_handled) {
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    return result;
+  }
   if (signal == SIGTERM || signal == SIGHUP) std::raise(signal);
   if (signal != 0) {
     PyErr_SetNone(PyExc_KeyboardInterrupt);

@@ -236,6 +236,8 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // What the process was started with (`nohup` ignores SIGHUP), before MPI or a runtime installs handlers of its own.
+  clr::remember_signal_dispositions();
   // MPI starts before the OpenCL runtime's threads do, and only under mpirun (Communicator::world).
   auto& ranks = clr::distributed::Communicator::world();
   if (ranks.rank() != 0) clr::Progress::silence_process();
@@ -243,10 +245,10 @@ int main(int argc, char** argv) {
   // 141); ignored, a write fails instead, and the process says so in its one line.
   std::signal(SIGPIPE, SIG_IGN);
   // A library loaded with the runtimes catches SIGHUP, SIGQUIT and SIGUSR1 and then does nothing: each was silently
-  // swallowed. Their default actions come back here; the stop handlers (common/stop_signal.hpp) take them over
-  // wherever work stops at a safe point. Under mpirun the MPI runtime's own handling is left alone.
-  if (!ranks.distributed())
-    for (const int sig : {SIGHUP, SIGQUIT, SIGUSR1}) std::signal(sig, SIG_DFL);
+  // swallowed. What the process was started with comes back here (the default action, or ignored where it was);
+  // the stop handlers (common/stop_signal.hpp) take them over wherever work stops at a safe point. Under mpirun the
+  // MPI runtime's own handling is left alone.
+  if (!ranks.distributed()) clr::reclaim_signals();
   int code = run(argc, argv);
   std::cout.flush();
   if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout) {

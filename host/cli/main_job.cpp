@@ -83,6 +83,7 @@ int run_main_job(double minutes, const std::string& preset) {
   if (!fs::exists(ref_path)) {
     reference::RenderOptions ref;
     ref.spp = 1024;
+    ref.max_depth = reference::kWholeTransport;
     ref.progress = true;
     reference::RenderStats stats;
     const auto traced = reference::render(geometry, ref, &stats);

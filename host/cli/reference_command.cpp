@@ -10,6 +10,7 @@
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "common/stop_signal.hpp"
+#include "common/terminal_text.hpp"
 #include "distributed/image_rows.hpp"
 #include "geometry/geometry.hpp"
 #include "image/image_format.hpp"
@@ -113,6 +114,9 @@ Command add_reference_command(CLI::App& app) {
         scene::require_emitter(scene, opt->scene);
         const geometry::Geometry geometry(scene);
         const int max_depth = opt->render.max_depth.value_or(scene.max_depth);
+        // What becomes of an integrator the path tracer does not implement, unless --max-depth decides the image.
+        if (!scene.integrator_note.empty() && !opt->render.max_depth && ranks.rank() == 0 && !Progress::silenced())
+          std::fprintf(stderr, "%s\n", terminal_safe(scene.integrator_note).c_str());
         const std::string digest = scene::fingerprint(scene).digest;
         const auto wanted = identity(digest, scene.camera.resized(opt->render.width, opt->render.height), opt->sensor,
                                      max_depth, opt->render.seed);

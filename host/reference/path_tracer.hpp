@@ -14,6 +14,11 @@
 
 namespace clr::reference {
 
+// The path length of an image a trained model is measured against: the whole transport, which training solves
+// whatever the scene's integrator renders (its `direct`, or a short max_depth, would measure the model against less
+// light than it learned).
+inline constexpr int kWholeTransport = -1;
+
 struct RenderOptions {
   int width = 0, height = 0;            // 0: the scene's film
   std::optional<scene::Camera> camera;  // another view than the scene's sensor (a frame of a camera path)

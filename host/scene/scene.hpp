@@ -50,6 +50,9 @@ struct Scene {
   int max_depth = -1;
   // Its rr_depth, where it names one: the depth from which the path tracer plays Russian roulette.
   std::optional<int> rr_depth;
+  // What the path tracer does with an integrator it does not implement or that wraps another, for `reference` to say
+  // (empty: nothing to say).
+  std::string integrator_note;
   // The sensor's <sampler> sample_count (Mitsuba's samples per pixel), which `reference` takes when given no --spp;
   // nullopt where the scene names none.
   std::optional<int> sample_count;

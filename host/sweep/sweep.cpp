@@ -56,6 +56,7 @@ image::Image reference_image(const geometry::Geometry& geometry, const SweepOpti
   render.width = width;
   render.height = height;
   render.spp = o.reference_spp;
+  render.max_depth = reference::kWholeTransport;
   render.progress = true;
   const auto img = reference::render(geometry, render);
   image::write_exr(path, img);
@@ -151,6 +152,7 @@ void run_sweep(cl::Context& ctx, const SweepOptions& options) {
   PathTracingPlan pt;
   pt.render.width = width;
   pt.render.height = height;
+  pt.render.max_depth = reference::kWholeTransport;
   pt.budgets_minutes = o.minutes;
   pt.cap_seconds = o.path_tracing_cap * o.minutes.back() * 60.0;
   pt.target_mape = 0;

@@ -23,6 +23,7 @@ FrameCheck path_trace_to(const geometry::Geometry& geometry, const scene::Camera
   pass.width = o.settings.width;
   pass.height = o.settings.height;
   pass.camera = camera;
+  pass.max_depth = reference::kWholeTransport;
   pass.stoppable = true;
   image::Image sum(reference.width, reference.height);
   double seconds = 0, last_seconds = 0, last_mape = 0;
@@ -113,6 +114,7 @@ BreakEven measure_break_even(const geometry::Geometry& geometry, const std::vect
     ref.height = o.settings.height;
     ref.camera = views[i];
     ref.spp = o.reference_spp;
+    ref.max_depth = reference::kWholeTransport;
     ref.seed = (std::uint64_t(1) << 40) + frames[i];  // never a pass's seed
     ref.progress = true;
     ref.stoppable = true;

@@ -282,6 +282,42 @@ def test_ctrl_c_checkpoints_then_raises_keyboard_interrupt(tmp_path):
     assert cr.load_run(out).steps >= 3
 
 
+def _interrupted_training(tmp_path, prelude, steps):
+    """A script that sets up its SIGINT disposition (`prelude`), trains `steps` steps and prints how many it ran;
+    SIGINT is sent once training has logged step 3. Returns the finished process and its stdout."""
+    script = tmp_path / "signals.py"
+    out = tmp_path / "run"
+    script.write_text(
+        "import signal, sys, clradiosity as cr\n" + prelude +
+        "def report(r):\n"
+        "    if r['step'] == 3: print('training', flush=True)\n"
+        "run = cr.train(cr.load_scene(%r, res=32), %r, steps=%d, method='nr', config=%r, callback=report)\n"
+        "print('steps', run.steps, flush=True)\n" % (str(BOX), str(out), steps, SMALL))
+    p = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
+    assert p.stdout.readline().strip() == "training", p.stderr.read()
+    p.send_signal(signal.SIGINT)
+    stdout, stderr = p.communicate(timeout=120)
+    return p, stdout, stderr
+
+
+def test_ctrl_c_that_python_ignores_does_not_stop_the_work(tmp_path):
+    p, stdout, stderr = _interrupted_training(tmp_path, "signal.signal(signal.SIGINT, signal.SIG_IGN)\n", 60)
+    assert p.returncode == 0, stderr
+    assert "steps 60" in stdout
+
+
+def test_ctrl_c_reaches_the_programs_own_handler_after_the_stop(tmp_path):
+    prelude = ("def mine(sig, frame):\n"
+               "    print('handled', flush=True)\n"
+               "signal.signal(signal.SIGINT, mine)\n")
+    p, stdout, stderr = _interrupted_training(tmp_path, prelude, 100000)
+    assert p.returncode == 0, stderr
+    assert "handled" in stdout  # the program's handler ran, and raised nothing
+    steps = int(stdout.split("steps")[-1])
+    assert 0 < steps < 100000  # the work stopped at the signal, with its checkpoint
+
+
 def test_write_image_round_trips_and_refuses_other_extensions(tmp_path):
     image = np.random.default_rng(1).random((5, 7, 3), dtype=np.float32)
     cr.write_image(tmp_path / "a.exr", image, spp=3)

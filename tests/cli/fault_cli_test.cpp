@@ -74,6 +74,33 @@ TEST_F(FaultCli, HangupAndQuitWriteACheckpointAndExitCleanly) {
   }
 }
 
+// What the process was started with ignored (`nohup` ignores SIGHUP, `trap '' INT` SIGINT) stays ignored: the
+// training goes on through both, and SIGTERM, which was not ignored, still stops it cleanly.
+TEST_F(FaultCli, IgnoredSignalsStayIgnored) {
+  const fs::path run = dir / "ignored";
+  struct sigaction ignore {
+  }, hangup{}, interrupt{};
+  ignore.sa_handler = SIG_IGN;
+  sigemptyset(&ignore.sa_mask);
+  sigaction(SIGHUP, &ignore, &hangup);  // inherited through fork and exec
+  sigaction(SIGINT, &ignore, &interrupt);
+  const pid_t pid = start_training(run, false);
+  sigaction(SIGHUP, &hangup, nullptr);
+  sigaction(SIGINT, &interrupt, nullptr);
+  ASSERT_GE(pid, 0);
+  ASSERT_TRUE(wait_for_lines(run / "log.csv", 3)) << "training did not start logging";
+  ::kill(pid, SIGHUP);
+  ::kill(pid, SIGINT);
+  EXPECT_TRUE(wait_for_lines(run / "log.csv", lines_in(run / "log.csv") + 3)) << "an ignored signal stopped it";
+  int status = 0;
+  EXPECT_EQ(waitpid(pid, &status, WNOHANG), 0) << "it ended";
+  ::kill(pid, SIGTERM);
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 143);
+  EXPECT_NO_THROW(nn::read_checkpoint((run / "model.clr").string()));
+}
+
 // A reader that closed its end of stdout's pipe ends the command with one line, not a silent death by SIGPIPE.
 TEST(FaultCliPipe, AClosedStdoutEndsWithOneLine) {
   int out[2], err[2];

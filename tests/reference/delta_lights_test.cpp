@@ -244,7 +244,8 @@ TEST_F(TexturedEmitters, AreaRadianceFollowsItsTexture) {
       <transform name="to_uv"><scale value="2"/></transform></texture></emitter></shape>
     <sensor type="orthographic">
       <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-      <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/></film></sensor>)"));
+      <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/>
+        <rfilter type="box"/></film></sensor>)"));  // a box filter: a pixel's samples stay in its cell
   ASSERT_TRUE(s.shapes[0].radiance_texture.has_value());
   EXPECT_FLOAT_EQ(s.shapes[0].radiance.x, 1.0f);  // its mean
   const geometry::Geometry g(s);

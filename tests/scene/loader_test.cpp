@@ -1,5 +1,6 @@
 // The Mitsuba loader, tag by tag: values, version upgrade, defaults, includes, references, transforms, shapes,
 // materials, textures, emitters and the sensor.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <zlib.h>
 
@@ -349,6 +350,12 @@ TEST_F(Loader, TheIntegratorSetsWhatTheReferenceRenders) {
           .max_depth,
       -1);
   EXPECT_EQ(load(R"(<integrator type="depth"/>)").max_depth, -1);
+  // What `reference` says of them: nothing for what it implements, one line for a wrapper or an unknown type.
+  EXPECT_EQ(load(R"(<integrator type="path"/>)").integrator_note, "");
+  EXPECT_THAT(load(R"(<integrator type="depth"/>)").integrator_note,
+              ::testing::HasSubstr("'depth' is not implemented"));
+  EXPECT_THAT(load(R"(<integrator type="moment"><integrator type="direct"/></integrator>)").integrator_note,
+              ::testing::HasSubstr("'moment' wraps 'direct'"));
   EXPECT_THROW(load(R"(<integrator type="path"><integer name="max_depth" value="-4"/></integrator>)"), InputError);
   EXPECT_THROW(load(R"(<integrator type="path"><integer name="rr_depth" value="0"/></integrator>)"), InputError);
 }

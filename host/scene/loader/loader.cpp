@@ -316,7 +316,7 @@ class Loader final : public loader::Context {
   // `moment` wrapper renders the one nested in it) with its path length — `path` and its kin their max_depth,
   // `direct` emission plus one bounce — and roulette depth. Training solves the whole transport whatever it says.
   // Integrators that need what clradiosity does not model (polarization) are refused; others it does not implement
-  // are rendered as `path` and named in one line on stderr.
+  // are rendered as `path`; `reference` says so in one line (Scene::integrator_note).
   void integrator(const Node& n, bool top) {
     if (const char* why = loader::refused_plugin("integrator", n.attr_or("type", ""))) n.fail(why);
     for (const Node& c : n.children())
@@ -341,6 +341,7 @@ class Loader final : public loader::Context {
         "erpt",           "photonmapper",      "sppm",       "ppm",  "volpath_simple"};
     scene_.max_depth = -1;
     scene_.rr_depth.reset();
+    scene_.integrator_note.clear();
     if (type == "direct") {
       // Emitted light plus one bounce of direct light: the path tracer's two-segment paths (Mitsuba's emitter and
       // BSDF sample counts change its noise, not its image).
@@ -349,15 +350,14 @@ class Loader final : public loader::Context {
       if (p.has("max_depth")) scene_.max_depth = p.integer("max_depth", -1);
       if (p.has("rr_depth")) scene_.rr_depth = p.integer("rr_depth", 5);
     } else {
-      std::fprintf(stderr, "%s: warning: integrator '%s' is not implemented: `reference` renders it as 'path'%s\n",
-                   clr::terminal_safe(transport.where()).c_str(), clr::terminal_safe(type).c_str(),
-                   p.has("max_depth") ? " with its max_depth" : "");
+      scene_.integrator_note = transport.where() + ": integrator '" + type +
+                               "' is not implemented: the path tracer renders it as 'path'" +
+                               (p.has("max_depth") ? " with its max_depth" : "");
       if (p.has("max_depth")) scene_.max_depth = p.integer("max_depth", -1);
     }
-    if (transport.where() != n.where())
-      std::fprintf(stderr, "%s: note: integrator '%s' wraps '%s': `reference` renders the inner one\n",
-                   clr::terminal_safe(n.where()).c_str(), clr::terminal_safe(n.attr_or("type", "")).c_str(),
-                   clr::terminal_safe(type).c_str());
+    if (scene_.integrator_note.empty() && transport.where() != n.where())
+      scene_.integrator_note = n.where() + ": integrator '" + n.attr_or("type", "") + "' wraps '" + type +
+                               "': the path tracer renders the inner one";
     if (scene_.max_depth < -1)
       p.expect("max_depth", {"integer"}).fail("max_depth must be -1 (unbounded) or at least 0");
     if (scene_.rr_depth && *scene_.rr_depth < 1) p.expect("rr_depth", {"integer"}).fail("rr_depth must be at least 1");
