@@ -166,13 +166,14 @@ class Model {
   std::mutex mutex_;
 };
 
-// What a training reports to its callback after every step.
-// "lhs" or "rhs", as the CLI's --mode; InputError naming `what` otherwise.
+// A mode by its name, as the CLI's --mode; InputError naming `what` otherwise.
 radiosity::RenderMode render_mode(const std::string& name, const char* what) {
-  if (name == "lhs") return radiosity::RenderMode::lhs;
-  if (name == "rhs") return radiosity::RenderMode::rhs;
+  const auto& names = radiosity::render_mode_names();
+  if (const auto it = names.find(name); it != names.end()) return it->second;
   throw InputError(std::string(what) + ": '" + name + "' is not lhs or rhs");
 }
+
+// What a training reports to its callback after every step.
 
 py::dict step_report(const radiosity::Trainer& trainer, double seconds) {
   py::dict d;

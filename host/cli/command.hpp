@@ -7,8 +7,6 @@
 #include <optional>
 #include <string>
 
-#include "radiosity/renderer.hpp"
-
 namespace clr::cli {
 
 // A parsed subcommand and what runs it.
@@ -26,10 +24,6 @@ void add_threads_option(CLI::App& cmd);
 void add_scene_parameters_option(CLI::App& cmd, std::map<std::string, std::string>& parameters);
 // Adds --sensor INDEX: which of the scene's sensors, in the file's order, renders (default 0, the first).
 void add_sensor_option(CLI::App& cmd, int& sensor);
-// `render --mode` and `train --eval-mode`: the image a model is rendered as, by name.
-inline std::map<std::string, radiosity::RenderMode> render_modes() {
-  return {{"lhs", radiosity::RenderMode::lhs}, {"rhs", radiosity::RenderMode::rhs}};
-}
 // The command line as given (argv joined by spaces), for the metadata of the images a command writes.
 const std::string& command_line();
 // What an EXR records of how it was made (docs/cli.md, "EXR metadata"): software, command line, scene digest, and

@@ -177,7 +177,7 @@ Command add_render_command(CLI::App& app) {
                   "lhs (default): the model's radiance where the camera ray lands; rhs: one more bounce there (the "
                   "direct light by next-event estimation, one BSDF sample, the model where it lands), the Neural "
                   "Radiosity authors' RHS image")
-      ->transform(CLI::CheckedTransformer(render_modes()));
+      ->transform(CLI::CheckedTransformer(radiosity::render_mode_names()));
   cmd->add_option("--width", opt->settings.width, "Image width (default: the scene's film)")
       ->check(CLI::Range(1, 1 << 15));
   cmd->add_option("--height", opt->settings.height, "Image height (default: the scene's film)")

@@ -89,7 +89,7 @@ Command add_train_command(CLI::App& app) {
       ->needs(reference_option);
   cmd->add_option("--eval-mode", opt->evaluation.mode,
                   "The evaluated image, as `render --mode`: lhs (default) or rhs (a resumed run keeps its own)")
-      ->transform(CLI::CheckedTransformer(render_modes()))
+      ->transform(CLI::CheckedTransformer(radiosity::render_mode_names()))
       ->needs(reference_option);
   auto* preview_option = cmd->add_option("--preview", opt->preview,
                                          "Keep a small render of the model (PNG, the longer side at most " +

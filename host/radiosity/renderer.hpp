@@ -7,7 +7,9 @@
 // integral; it costs a light sample and a second trace a camera sample, and its Monte Carlo noise. `spp` camera
 // rays per pixel, drawn from the film's reconstruction filter as the path tracer draws them (scene/pixel_filter.hpp).
 #include <functional>
+#include <map>
 #include <span>
+#include <string>
 
 #include "image/image.hpp"
 #include "radiosity/surface_query.hpp"
@@ -19,6 +21,11 @@ namespace clr::radiosity {
 using RadianceQuery = std::function<void(std::span<const float> raw_rows, std::span<float> rgb)>;
 
 enum class RenderMode { lhs, rhs };
+// The modes by name, for every front end: `render --mode`, `train --eval-mode`, Python's mode= and eval_mode=.
+inline const std::map<std::string, RenderMode>& render_mode_names() {
+  static const std::map<std::string, RenderMode> names = {{"lhs", RenderMode::lhs}, {"rhs", RenderMode::rhs}};
+  return names;
+}
 
 struct RenderSettings {
   int width = 0, height = 0;  // 0: the scene's film
