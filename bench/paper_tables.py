@@ -6,7 +6,8 @@
 Reads OUT_DIR/runs/SCENE/*/{log.csv,run.json,config.json} (each training's evaluations: train --reference) and
 OUT_DIR/path_tracer/SCENE/points.csv; writes OUT_DIR/tables.md (Tables 1, 2 and 4 with the paper's numbers beside
 ours, and the time each method and the path tracer need to reach a MAPE) and OUT_DIR/SCENE-curves.svg (MAPE
-against steps, and against seconds with the path tracer on the same axes).
+against steps, against seconds with the path tracer on the same axes, and against the incident samples trained
+on, steps x batch x N, in which runs of other batches and N compare).
 """
 import csv
 import json
@@ -29,6 +30,8 @@ def read_run(folder):
     evals = [(int(r["step"]), float(r["seconds"]), float(r["mape"]), float(r["mse"])) for r in rows if r.get("mape")]
     record = json.load(open(os.path.join(folder, "run.json")))
     config = json.load(open(os.path.join(folder, "config.json")))
+    # Incident samples trained on (steps x batch x N): log.csv's column, or the same product for a log before it.
+    per_step = (config.get("batch") or 0) * (config.get("samples") or 0)
     return {
         "evals": evals,
         "steps": int(rows[-1]["step"]) if rows else 0,
@@ -36,6 +39,7 @@ def read_run(folder):
         "memory_mib": record.get("peak_device_mib"),
         "batch": config.get("batch"),
         "samples": record["samples"],
+        "per_step": per_step,
     }
 
 
@@ -54,14 +58,16 @@ def final(run):
 
 def results_table(lines, title, runs, paper_rows, paper_scene):
     lines += [f"#### {title}", ""]
-    lines += ["| method | step | time (min) | memory (GiB) | MAPE | MSE | paper: step | time (min) | memory (GB) | MAPE | MSE |",
-              "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    lines += ["| method | step | samples seen (M) | time (min) | memory (GiB) | MAPE | MSE | paper: step | time (min) | "
+              "memory (GB) | MAPE | MSE |",
+              "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for key, run in runs.items():
         step, seconds, mape, mse = final(run)
         paper = paper_rows.get(paper_scene, {}).get(PAPER_KEY.get(key, ""), {}) if paper_scene else {}
         memory = run["memory_mib"] / 1024 if run["memory_mib"] is not None else None
         lines.append(
-            f"| {METHODS[key]} | {step} | {number(seconds / 60, '{:.3g}')} | {number(memory, '{:.2f}')} | "
+            f"| {METHODS[key]} | {step} | {number(step * run['per_step'] / 1e6 or None, '{:.4g}')} | "
+            f"{number(seconds / 60, '{:.3g}')} | {number(memory, '{:.2f}')} | "
             f"{number(mape, '{:.4f}')} | {number(mse, '{:.3g}')} | {number(paper.get('step'), '{:.0f}')} | "
             f"{number(paper.get('minutes'), '{:.0f}')} | {number(paper.get('memory_gb'), '{:.2f}')} | "
             f"{number(paper.get('mape'), '{:.3f}')} | {number(paper.get('mse'), '{:.3g}')} |")
@@ -144,7 +150,7 @@ def time_to_quality(lines, runs, points):
     lines.append("")
 
 
-def svg_curves(file, title, series_steps, series_seconds):
+def svg_curves(file, title, panels):
     width, height, left, right, top, bottom = 440, 320, 72, 16, 34, 46
 
     def panel(x_off, name, x_label, series):
@@ -186,13 +192,11 @@ def svg_curves(file, title, series_steps, series_seconds):
                        f'font-size="11">{label}</text>')
         return out
 
-    body = panel(0, "against steps", "step", series_steps) + panel(width, "against seconds",
-                                                                    "seconds (training; path tracer: rendering)",
-                                                                    series_seconds)
+    body = [part for i, (name, x_label, series) in enumerate(panels) for part in panel(i * width, name, x_label, series)]
     with open(file + ".tmp", "w") as f:
-        f.write(f'<svg xmlns="http://www.w3.org/2000/svg" width="{2 * width}" height="{height + 28}" '
+        f.write(f'<svg xmlns="http://www.w3.org/2000/svg" width="{len(panels) * width}" height="{height + 28}" '
                 f'font-family="sans-serif">\n<rect width="100%" height="100%" fill="white"/>\n'
-                f'<text x="{width}" y="20" text-anchor="middle" font-size="15">{title}</text>\n'
+                f'<text x="{len(panels) * width / 2}" y="20" text-anchor="middle" font-size="15">{title}</text>\n'
                 + "\n".join(body) + "\n</svg>\n")
     os.replace(file + ".tmp", file)
 
@@ -218,22 +222,28 @@ def main(out_dir, paper_file):
                               paper[f"table{table}"]["rows"], paper_scene)
         if t1:
             ablation_table(lines, t1, paper)
-        series_steps, series_seconds = [], []
+        series_steps, series_seconds, series_samples = [], [], []
         for table, runs in ((1, t1), (2, t2)):
             for key, run in runs.items():
                 label = f"{METHODS[key]}, N = {run['samples']}"
-                series_steps.append((label, [e[0] for e in run["evals"]], [e[2] for e in run["evals"]]))
-                series_seconds.append((label, [e[1] for e in run["evals"]], [e[2] for e in run["evals"]]))
+                mapes = [e[2] for e in run["evals"]]
+                series_steps.append((label, [e[0] for e in run["evals"]], mapes))
+                series_seconds.append((label, [e[1] for e in run["evals"]], mapes))
+                series_samples.append((label, [e[0] * run["per_step"] / 1e6 for e in run["evals"]], mapes))
             if runs:
                 time_to_quality(lines, runs, points)
         if points:
-            series_steps.append(("path tracer", [], []))  # keeps its colour the same in both panels
+            series_steps.append(("path tracer", [], []))  # keeps its colour the same in every panel
+            series_samples.append(("path tracer", [], []))
             series_seconds.append(("path tracer", [p[0] for p in points], [p[1] for p in points]))
             lines += ["Path tracer (rendering seconds, MAPE): "
                       + ", ".join(f"{t:.3g} s {m:.4f}" for t, m in points), ""]
         figure = f"{scene}-curves.svg"
-        svg_curves(os.path.join(out_dir, figure), f"MAPE during training: {scene}", series_steps, series_seconds)
-        lines += [f"![MAPE against steps and seconds]({figure})", ""]
+        svg_curves(os.path.join(out_dir, figure), f"MAPE during training: {scene}",
+                   [("against steps", "step", series_steps),
+                    ("against seconds", "seconds (training; path tracer: rendering)", series_seconds),
+                    ("against samples seen", "incident samples trained on (millions)", series_samples)])
+        lines += [f"![MAPE against steps, seconds and samples seen]({figure})", ""]
     with open(os.path.join(out_dir, "tables.md.tmp"), "w") as f:
         f.write("\n".join(lines))
     os.replace(os.path.join(out_dir, "tables.md.tmp"), os.path.join(out_dir, "tables.md"))

@@ -5,7 +5,8 @@
 
 mape_vs_time.png: MAPE against wall time, log-log, one line per method and N (the mean over seeds at each
 budget; models at their training time) with the path tracer's progressive render on the same axes (its rendering
-time). strip.png: the reference, NR, ISNR and the path tracer at the largest budget (equal time), each with its
+time). mape_vs_samples.png: the models' MAPE against the incident samples they trained on (steps x batch x N),
+where results.csv has that column. strip.png: the reference, NR, ISNR and the path tracer at the largest budget (equal time), each with its
 false-colour error map (blue 0, red >= 100 % relative error) under it. The sweep runs this when matplotlib is there.
 """
 import csv
@@ -25,29 +26,35 @@ def main(sweep_dir):
         rows = list(csv.DictReader(f))
     budget_rows = [r for r in rows if r["kind"] == "model" and r["point"] == "budget"]
 
-    # MAPE against time: per (method, N), the seeds' mean at each budget.
+    # MAPE against time, and against samples seen: per (method, N), the seeds' mean at each budget.
     curves = defaultdict(lambda: defaultdict(list))
     for r in budget_rows:
         curves[(r["method"], int(r["samples"]))][float(r["budget_minutes"])].append(r)
-    fig, ax = plt.subplots(figsize=(6, 4.5))
-    for (method, n), by_budget in sorted(curves.items()):
-        pts = sorted(
-            (sum(float(r["seconds"]) for r in rs) / len(rs), sum(float(r["mape"]) for r in rs) / len(rs))
-            for rs in by_budget.values()
-        )
-        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=f"{method}, N = {n}")
-    pt = sorted((float(r["seconds"]), float(r["mape"])) for r in rows if r["kind"] == "path_tracing")
-    if pt:
-        ax.plot([p[0] for p in pt], [p[1] for p in pt], "s--", color="black", label="path tracing")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("wall time [s] (training; path tracing: rendering)")
-    ax.set_ylabel("MAPE")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(os.path.join(sweep_dir, "mape_vs_time.png"), dpi=120)
-    plt.close(fig)
+
+    def mean(rs, column):
+        return sum(float(r[column]) for r in rs) / len(rs)
+
+    def figure(name, column, x_label, path_tracer):
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        for (method, n), by_budget in sorted(curves.items()):
+            pts = sorted((mean(rs, column), mean(rs, "mape")) for rs in by_budget.values())
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=f"{method}, N = {n}")
+        pt = sorted((float(r["seconds"]), float(r["mape"])) for r in rows if r["kind"] == "path_tracing")
+        if path_tracer and pt:
+            ax.plot([p[0] for p in pt], [p[1] for p in pt], "s--", color="black", label="path tracing")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel(x_label)
+        ax.set_ylabel("MAPE")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend()
+        fig.tight_layout()
+        fig.savefig(os.path.join(sweep_dir, name), dpi=120)
+        plt.close(fig)
+
+    figure("mape_vs_time.png", "seconds", "wall time [s] (training; path tracing: rendering)", True)
+    if budget_rows and all(r.get("incident_samples") for r in budget_rows):
+        figure("mape_vs_samples.png", "incident_samples", "incident samples trained on (steps x batch x N)", False)
 
     # The image strip at the largest budget: the first seed and N of NR and of the first ISNR variant.
     if not budget_rows:

@@ -24,13 +24,23 @@ namespace {
 
 constexpr const char* kLogHeader = "step,seconds,loss,lookups,non_finite,learning_rate,residual_power";
 constexpr const char* kGuideLogColumns = ",guide_loss,guided_share";  // isnr runs only
-// The model's error against a reference (train --reference), last so that the columns before keep their places for
-// readers of older logs; empty in rows without an evaluation.
+// Later columns go last, so that the columns before keep their places for readers of older logs: the model's error
+// against a reference (train --reference; empty in rows without an evaluation), then the incident samples seen.
 constexpr const char* kEvaluationLogColumns = ",mape,mse,relmse";
+constexpr const char* kSamplesLogColumn = ",samples";
 
-std::string log_header(const TrainConfig& config, bool evaluation_columns) {
+// The header's shapes, oldest first: each log written since has one of them; the last is today's.
+enum class LogShape { Base, Evaluation, Samples };
+
+std::string log_header(const TrainConfig& config, LogShape shape = LogShape::Samples) {
   return std::string(kLogHeader) + (config.guided() ? kGuideLogColumns : "") +
-         (evaluation_columns ? kEvaluationLogColumns : "");
+         (shape >= LogShape::Evaluation ? kEvaluationLogColumns : "") +
+         (shape >= LogShape::Samples ? kSamplesLogColumn : "");
+}
+
+// log.csv's samples cell of `step`: empty for a config written before the batch was resolved into it (batch 0).
+std::string samples_cell(const TrainConfig& config, long step) {
+  return config.batch > 0 && step >= 0 ? std::to_string(config.incident_samples(std::uint64_t(step))) : "";
 }
 
 // The shortest decimal that reads back as the same double: the logged MAPE is the one `compare --json` prints.
@@ -41,17 +51,29 @@ std::string shortest(double v) {
   return ec == std::errc() ? std::string(text, end) : std::to_string(v);
 }
 
-// A log written before the evaluation columns existed gains them (empty in its rows), so that every row of a resumed
-// run has the header's columns. A header of another shape is left alone.
-void add_evaluation_columns(const fs::path& log_file, const TrainConfig& config) {
+// A log written before today's columns existed gains them when its run resumes, so that every row has the header's
+// fields: empty evaluation cells, and the samples its step had seen. A header of another shape is left alone.
+void add_missing_columns(const fs::path& log_file, const TrainConfig& config) {
   const std::string text = read_input_text(log_file, "run log");
   const auto eol = text.find('\n');
   const std::string header = text.substr(0, eol);
-  if (header != log_header(config, false)) return;
+  LogShape shape;
+  if (header == log_header(config, LogShape::Base))
+    shape = LogShape::Base;
+  else if (header == log_header(config, LogShape::Evaluation))
+    shape = LogShape::Evaluation;
+  else
+    return;
   std::istringstream rows(eol == std::string::npos ? std::string() : text.substr(eol + 1));
-  std::string out = log_header(config, true) + "\n", line;
-  while (std::getline(rows, line))
-    if (!line.empty()) out += line + ",,,\n";
+  std::string out = log_header(config) + "\n", line;
+  while (std::getline(rows, line)) {
+    if (line.empty()) continue;
+    out += line + (shape == LogShape::Base ? ",,," : "") + ",";
+    long step = -1;
+    const auto [end, ec] = std::from_chars(line.data(), line.data() + line.size(), step);
+    out += (ec == std::errc() && end != line.data() + line.size() && *end == ',' ? samples_cell(config, step) : "") +
+           "\n";
+  }
   write_record_atomically(log_file, out, "run log");
 }
 
@@ -164,7 +186,7 @@ void RunDirectory::start(const TrainConfig& config, const scene::SceneFingerprin
   scene_ = scene;
   write_scene(dir_, scene);
   write_record_atomically(config_path(dir_), nlohmann::json(config).dump(2) + "\n", "run config");
-  write_record_atomically(log_path(dir_), log_header(config, true) + "\n", "run log");
+  write_record_atomically(log_path(dir_), log_header(config) + "\n", "run log");
 }
 
 RunDirectory RunDirectory::resume(const fs::path& dir, const scene::SceneFingerprint& scene) {
@@ -174,7 +196,7 @@ RunDirectory RunDirectory::resume(const fs::path& dir, const scene::SceneFingerp
   run.config_ = load_config(dir);
   run.seconds_trained_ = logged_seconds(log_path(dir));
   require_scene(dir, scene);  // before the log is touched: a run refused is left as it was
-  add_evaluation_columns(log_path(dir), run.config_);
+  add_missing_columns(log_path(dir), run.config_);
   run.scene_ = scene;
   return run;
 }
@@ -208,7 +230,7 @@ std::string RunDirectory::log_line(const LogRow& r) const {
         "," + shortest(r.evaluation->mape) + "," + shortest(r.evaluation->mse) + "," + shortest(r.evaluation->relmse);
   else
     line += ",,,";
-  return line + "\n";
+  return line + "," + samples_cell(config_, r.step) + "\n";
 }
 
 void RunDirectory::append_log(const LogRow& r) const {

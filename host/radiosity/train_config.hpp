@@ -3,6 +3,7 @@
 // included, live under `network`, see nn/network.hpp). Read from
 // `--config FILE.json`, overridden by CLI flags, validated, and saved as RUN_DIR/config.json so a run can be
 // resumed and rendered with exactly the settings it was trained with.
+#include <algorithm>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -83,6 +84,13 @@ struct TrainConfig {
   nlohmann::json guide = nlohmann::json::object();
 
   bool guided() const { return method == Method::Isnr; }
+
+  // The incident samples (points × N directions; next-event estimation's light samples not counted) a run has
+  // trained on after `steps_done`: the unit in which runs of other batches and N compare. 0 while the batch is
+  // unresolved.
+  std::uint64_t incident_samples(std::uint64_t steps_done) const {
+    return steps_done * std::uint64_t(std::max(batch, 0)) * std::uint64_t(std::max(samples, 0));
+  }
 
   // The factor on the learning rate once `progress` ∈ [0, 1] of the budget is spent.
   double learning_rate_scale(double progress) const;

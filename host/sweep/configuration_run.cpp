@@ -119,6 +119,7 @@ void evaluate(const SweepContext& sweep, const Configuration& config, const Targ
   r.steps = record_field<std::uint64_t>(info, "steps", record);  // a steps point's own count: the hook saw every step
   r.seconds = record_field<double>(info, "seconds", record);
   r.peak_device_mib = double(record_field<std::uint64_t>(info, "peak_device_bytes", record)) / double(1 << 20);
+  r.incident_samples = radiosity::RunDirectory::load_config(t.dir).incident_samples(r.steps);  // its batch, resolved
   r.spp = sweep.options.render_spp;
   const auto& m = evaluation.metrics;
   r.mape = m.mape;

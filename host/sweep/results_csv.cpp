@@ -12,10 +12,12 @@
 namespace clr::sweep {
 namespace {
 
-constexpr const char* kHeader =
+// The columns of a results.csv written before incident_samples existed; a rerun reads it and writes today's.
+constexpr const char* kOlderHeader =
     "kind,method,samples,seed,point,budget_minutes,steps,seconds,peak_device_mib,spp,render_seconds,mape,mse,"
     "relmse,non_finite,residual,residual_se,image,error_map";
-constexpr std::size_t kColumns = 19;
+constexpr std::size_t kOlderColumns = 19;
+const std::string kHeader = std::string(kOlderHeader) + ",incident_samples";
 
 std::string number(double v) {
   if (std::isnan(v)) return "";
@@ -61,14 +63,15 @@ std::vector<Row> read_results(const std::filesystem::path& path) {
   if (!in) return rows;
   std::string line;
   int line_number = 1;
-  if (!std::getline(in, line) || line != kHeader)
+  if (!std::getline(in, line) || (line != kHeader && line != kOlderHeader))
     throw InputError(path.string() + ":1: not a sweep's results.csv (header differs)");
+  const std::size_t columns = line == kHeader ? kOlderColumns + 1 : kOlderColumns;
   while (std::getline(in, line)) {
     ++line_number;
     if (line.empty()) continue;
     const auto c = split(line);
     const std::string where = path.string() + ":" + std::to_string(line_number);
-    if (c.size() != kColumns) throw InputError(where + ": expected " + std::to_string(kColumns) + " cells");
+    if (c.size() != columns) throw InputError(where + ": expected " + std::to_string(columns) + " cells");
     try {
       const auto real = [](const std::string& s) { return s.empty() ? kNone : std::stod(s); };
       Row r;
@@ -91,6 +94,7 @@ std::vector<Row> read_results(const std::filesystem::path& path) {
       r.residual_se = real(c[16]);
       r.image = c[17];
       r.error_map = c[18];
+      if (columns > kOlderColumns && !c[19].empty()) r.incident_samples = std::stoull(c[19]);
       rows.push_back(r);
     } catch (const std::logic_error&) {  // std::stod and friends: invalid_argument, out_of_range
       throw InputError(where + ": malformed number");
@@ -100,14 +104,15 @@ std::vector<Row> read_results(const std::filesystem::path& path) {
 }
 
 void write_results(const std::filesystem::path& path, const std::vector<Row>& rows) {
-  std::string text = std::string(kHeader) + "\n";
+  std::string text = kHeader + "\n";
   for (const auto& r : rows)
     text += std::string(to_string(r.kind)) + "," + r.method + "," + std::to_string(r.samples) + "," +
             std::to_string(r.seed) + "," + to_string(r.point) + "," + number(r.budget_minutes) + "," +
             std::to_string(r.steps) + "," + number(r.seconds) + "," + number(r.peak_device_mib) + "," +
             std::to_string(r.spp) + "," + number(r.render_seconds) + "," + number(r.mape) + "," + number(r.mse) + "," +
             number(r.relmse) + "," + std::to_string(r.non_finite) + "," + number(r.residual) + "," +
-            number(r.residual_se) + "," + r.image + "," + r.error_map + "\n";
+            number(r.residual_se) + "," + r.image + "," + r.error_map + "," +
+            (r.incident_samples ? std::to_string(r.incident_samples) : "") + "\n";
   write_record_atomically(path, text, "sweep results");
 }
 

@@ -39,6 +39,9 @@ struct Row {
   std::uint64_t non_finite = 0;
   double residual = kNone, residual_se = kNone;  // the rendering-equation residual metric (models)
   std::string image, error_map;                  // PNGs, relative to SWEEP_DIR
+  // Incident samples (points × N) the model had trained on: steps × batch × N, for comparing configurations at
+  // equal samples. 0 where unknown: the path tracer, and rows of a results.csv written before the column.
+  std::uint64_t incident_samples = 0;
 
   // What identifies a row across runs of the sweep: a rerun skips the work of every key present.
   std::string key() const;

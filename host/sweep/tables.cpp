@@ -22,6 +22,9 @@ std::string g(double v, const char* format = "%.4g") {
 
 std::string seconds_text(double s) { return std::isnan(s) ? "—" : s < 120 ? g(s, "%.3g s") : g(s / 60, "%.1f min"); }
 
+// Incident samples seen, in millions; "—" where unknown (0: a row from before the column).
+std::string samples_text(double samples) { return samples > 0 ? g(samples / 1e6, "%.4g M") : "—"; }
+
 std::string memory_text(double mib) {
   return std::isnan(mib) ? "—" : mib < 1024 ? g(mib, "%.3g MiB") : g(mib / 1024, "%.2f GiB");
 }
@@ -30,11 +33,13 @@ std::string memory_text(double mib) {
 // what compares, and the seed count says how many runs stand behind it.
 struct Mean {
   int runs = 0;
-  double steps = 0, seconds = 0, memory = 0, mape = 0, mse = 0, relmse = 0, residual = 0, render_seconds = 0;
+  double steps = 0, incident_samples = 0, seconds = 0, memory = 0, mape = 0, mse = 0, relmse = 0, residual = 0,
+         render_seconds = 0;
   int spp = 0;
   void add(const Row& r) {
     ++runs;
     steps += double(r.steps);
+    incident_samples += double(r.incident_samples);
     seconds += r.seconds;
     memory += r.peak_device_mib;
     mape += r.mape;
@@ -82,20 +87,21 @@ std::string tables_markdown(const std::vector<Row>& rows, const std::string& tit
       "same step count (same N and seed), taken on the way through its own run.\n\n";
   for (int n : samples) {
     md += "N = " + std::to_string(n) +
-          "\n\n| budget | seed | method | steps | time | memory | MAPE | MSE | relMSE |\n"
-          "| ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+          "\n\n| budget | seed | method | steps | samples seen | time | memory | MAPE | MSE | relMSE |\n"
+          "| ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
     for (const auto& r : rows) {
       if (r.kind != RowKind::Model || r.point != Point::Budget || r.samples != n || r.method == "nr") continue;
       const auto line = [&](const Row& x, const std::string& label) {
         return "| " + budget_label(r.budget_minutes) + " | " + std::to_string(r.seed) + " | " + label + " | " +
-               std::to_string(x.steps) + " | " + seconds_text(x.seconds) + " | " + memory_text(x.peak_device_mib) +
+               std::to_string(x.steps) + " | " + samples_text(double(x.incident_samples)) + " | " +
+               seconds_text(x.seconds) + " | " + memory_text(x.peak_device_mib) +
                " | " + g(x.mape) + " | " + g(x.mse) + " | " + g(x.relmse) + " |\n";
       };
       md += line(r, r.method);
       if (const Row* nr = find_steps_row(rows, r, "nr"))
         md += line(*nr, "nr, same steps");
       else
-        md += "| | | nr, same steps | — (not reached within NR's largest budget, or NR not in the sweep) | | | | | |\n";
+        md += "| | | nr, same steps | — (not reached within NR's largest budget, or NR not in the sweep) | | | | | | |\n";
     }
     md += "\n";
   }
@@ -103,19 +109,21 @@ std::string tables_markdown(const std::vector<Row>& rows, const std::string& tit
   md +=
       "## Table 2 — equal time\n\nEvery method at each budget of training time, and the path tracer at the same "
       "time of rendering (its spp chosen to fit the budget from the rate measured so far, in passes until "
-      "within 5 % of it; the time is measured, and a busy machine can push it past the budget).\n\n| N | budget | "
-      "method | seeds | steps | time | memory | MAPE | MSE | relMSE | residual |\n"
-      "| ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+      "within 5 % of it; the time is measured, and a busy machine can push it past the budget). Samples seen are "
+      "the incident samples trained on (steps × batch × N): configurations compare at equal samples by them.\n\n| "
+      "N | budget | method | seeds | steps | samples seen | time | memory | MAPE | MSE | relMSE | residual |\n"
+      "| ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
   for (const auto& [key, m] : means) {
     const auto& [n, budget, method] = key;
     md += "| " + std::to_string(n) + " | " + budget_label(budget) + " | " + method + " | " + std::to_string(m.runs) +
-          " | " + g(m.of(m.steps), "%.0f") + " | " + seconds_text(m.of(m.seconds)) + " | " +
+          " | " + g(m.of(m.steps), "%.0f") + " | " + samples_text(m.of(m.incident_samples)) + " | " +
+          seconds_text(m.of(m.seconds)) + " | " +
           memory_text(m.of(m.memory)) + " | " + g(m.of(m.mape)) + " | " + g(m.of(m.mse)) + " | " + g(m.of(m.relmse)) +
           " | " + g(m.of(m.residual)) + " |\n";
   }
   for (const auto& r : rows)
     if (r.kind == RowKind::PathTracing && r.point == Point::Budget)
-      md += "| | " + budget_label(r.budget_minutes) + " | path tracing, " + std::to_string(r.spp) + " spp | | | " +
+      md += "| | " + budget_label(r.budget_minutes) + " | path tracing, " + std::to_string(r.spp) + " spp | | | | " +
             seconds_text(r.seconds) + " | | " + g(r.mape) + " | " + g(r.mse) + " | " + g(r.relmse) + " | |\n";
   md += "\n";
 

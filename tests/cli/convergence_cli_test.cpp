@@ -90,7 +90,7 @@ TEST_F(ConvergenceCli, LoggedErrorIsCompareOfARenderOfTheCheckpoint) {
   EXPECT_THAT(figure, HasSubstr("<polyline")) << "two evaluations make a line";
 
   const Log log(run / "log.csv");
-  EXPECT_EQ(log.header.back(), "relmse");
+  EXPECT_EQ(log.header.back(), "samples");
   EXPECT_EQ(log.at(5, "mape"), "") << "a row between evaluations leaves the columns empty";
   EXPECT_NE(log.at(10, "mape"), "");
   for (const auto& row : log.rows) EXPECT_EQ(row.size(), log.header.size());
@@ -179,27 +179,42 @@ TEST_F(ConvergenceCli, ResumedRunKeepsItsImageMode) {
   EXPECT_THAT(r.err, HasSubstr("--eval-mode"));
 }
 
+// Logs of both older shapes (before the evaluation columns, before the samples column) gain today's columns on
+// resume: empty evaluations, and the samples each row's step had seen by the run's batch and N.
 TEST_F(ConvergenceCli, OlderRunGainsTheColumnsOnResume) {
-  const fs::path run = dir / "old";
-  auto r = run_cli("train " + kBox + " --steps 10 --config " + config + " -o " + run.string());
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  // As a run from before the evaluation columns wrote it.
-  std::string log = text_of(run / "log.csv"), old;
-  std::istringstream in(log);
-  for (std::string line; std::getline(in, line);) {
-    const std::string tail = old.empty() ? ",mape,mse,relmse" : ",,,";
-    ASSERT_EQ(line.substr(line.size() - tail.size()), tail) << line;
-    old += line.substr(0, line.size() - tail.size()) + "\n";
+  for (const std::string cut : {",mape,mse,relmse,samples", ",samples"}) {
+    const fs::path run = dir / ("old" + std::to_string(cut.size()));
+    auto r = run_cli("train " + kBox + " --steps 10 --config " + config + " -o " + run.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Log fresh(run / "log.csv");
+    ASSERT_EQ(fresh.header.back(), "samples");
+    const auto settings = nlohmann::json::parse(text_of(run / "config.json"));
+    const long per_step = settings.at("batch").get<long>() * settings.at("samples").get<long>();
+    EXPECT_EQ(fresh.at(10, "samples"), std::to_string(10 * per_step));
+    // As a run from before those columns wrote it: the header and every row lose their last cells.
+    const auto cells = std::count(cut.begin(), cut.end(), ',');
+    std::string old;
+    std::istringstream in(text_of(run / "log.csv"));
+    for (std::string line; std::getline(in, line);) {
+      std::size_t end = line.size();
+      for (long k = 0; k < cells; ++k) end = line.rfind(',', end - 1);
+      if (old.empty()) {
+        ASSERT_EQ(line.substr(end), cut);
+      }
+      old += line.substr(0, end) + "\n";
+    }
+    std::ofstream(run / "log.csv") << old;
+    r = run_cli("train " + kBox + " --resume --steps 20 --reference " + reference + " --eval-every 10 -o " +
+                run.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Log upgraded(run / "log.csv");
+    EXPECT_EQ(upgraded.header, fresh.header);
+    for (const auto& row : upgraded.rows) EXPECT_EQ(row.size(), upgraded.header.size());
+    EXPECT_EQ(upgraded.at(10, "mape"), "") << "the older session had no evaluation";
+    EXPECT_NE(upgraded.at(20, "mape"), "");
+    EXPECT_EQ(upgraded.at(10, "samples"), std::to_string(10 * per_step)) << "an older row's samples, restored";
+    EXPECT_EQ(upgraded.at(20, "samples"), std::to_string(20 * per_step));
   }
-  std::ofstream(run / "log.csv") << old;
-  r = run_cli("train " + kBox + " --resume --steps 20 --reference " + reference + " --eval-every 10 -o " +
-              run.string());
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const Log upgraded(run / "log.csv");
-  EXPECT_EQ(upgraded.header.back(), "relmse");
-  for (const auto& row : upgraded.rows) EXPECT_EQ(row.size(), upgraded.header.size());
-  EXPECT_EQ(upgraded.at(10, "mape"), "") << "the older session had no evaluation";
-  EXPECT_NE(upgraded.at(20, "mape"), "");
 }
 
 TEST_F(ConvergenceCli, BadOptionsAreRefusedBeforeTraining) {

@@ -39,6 +39,7 @@ sweep::Row model_row(const std::string& method, sweep::Point point, double minut
   r.residual_se = mape / 1000;
   r.image = "runs/x/render.png";
   r.error_map = "runs/x/error.png";
+  r.incident_samples = steps * 4096 * 4;
   return r;
 }
 
@@ -68,13 +69,14 @@ TEST(SweepResults, RoundTripAndKeys) {
     EXPECT_EQ(back[i].steps, rows[i].steps);
     EXPECT_EQ(back[i].mape, rows[i].mape);
     EXPECT_EQ(back[i].image, rows[i].image);
+    EXPECT_EQ(back[i].incident_samples, rows[i].incident_samples);
     EXPECT_EQ(std::isnan(back[i].residual), std::isnan(rows[i].residual));
   }
   // Rows differ in their keys exactly where a rerun must not mistake one for the other.
   EXPECT_NE(rows[0].key(), model_row("isnr-ikl", sweep::Point::Budget, 1.0, 300, 0.25).key());
   EXPECT_NE(rows[0].key(), model_row("isnr-kl", sweep::Point::Budget, 0.5, 300, 0.25).key());
 
-  std::ofstream(path, std::ios::app) << "model,nr,4,1,budget,1,x,1,1,16,1,1,1,1,0,1,1,a,b\n";
+  std::ofstream(path, std::ios::app) << "model,nr,4,1,budget,1,x,1,1,16,1,1,1,1,0,1,1,a,b,1\n";
   try {
     sweep::read_results(path);
     FAIL() << "read a malformed row";
@@ -83,7 +85,7 @@ TEST(SweepResults, RoundTripAndKeys) {
   }
   // Kinds and points are names from a fixed list, not free text.
   sweep::write_results(path, rows);
-  std::ofstream(path, std::ios::app) << "model,nr,4,1,halfway,1,1,1,1,16,1,1,1,1,0,1,1,a,b\n";
+  std::ofstream(path, std::ios::app) << "model,nr,4,1,halfway,1,1,1,1,16,1,1,1,1,0,1,1,a,b,1\n";
   try {
     sweep::read_results(path);
     FAIL() << "read an unknown point";
@@ -92,6 +94,16 @@ TEST(SweepResults, RoundTripAndKeys) {
   }
   std::ofstream(path) << "step,seconds\n";
   EXPECT_THROW(sweep::read_results(path), InputError);
+  // A results.csv from before the incident_samples column: read, its rows' samples unknown (0); rewritten whole.
+  std::ofstream(path) << "kind,method,samples,seed,point,budget_minutes,steps,seconds,peak_device_mib,spp,"
+                         "render_seconds,mape,mse,relmse,non_finite,residual,residual_se,image,error_map\n"
+                         "model,nr,4,1,budget,1,300,60,1,16,1,0.25,1,1,0,1,1,a,b\n";
+  const auto older = sweep::read_results(path);
+  ASSERT_EQ(older.size(), 1u);
+  EXPECT_EQ(older[0].steps, 300u);
+  EXPECT_EQ(older[0].incident_samples, 0u);
+  std::ofstream(path, std::ios::app) << "model,nr,4,1,budget,2,300,60,1,16,1,0.25,1,1,0,1,1,a,b,1\n";
+  EXPECT_THROW(sweep::read_results(path), InputError) << "a row of today's shape under the older header";
   fs::remove(path);
 }
 
@@ -117,7 +129,8 @@ TEST(SweepResults, TablesHaveThePapersThreeShapes) {
       pt_row(sweep::Point::Progress, sweep::kNone, 1, 0.01, 0.9), pt_row(sweep::Point::Budget, 0.5, 1000, 29.5, 0.125)};
   const std::string md = sweep::tables_markdown(rows, "Sweep of test");
   for (const char* part : {"## Table 1 — equal steps", "## Table 2 — equal time", "## Table 3 — residual",
-                           "against path tracing at equal error", "| 0.5min | 1 | nr, same steps | 300 |",
+                           "against path tracing at equal error", "| 0.5min | 1 | nr, same steps | 300 | 4.915 M |",
+                           "| 4 | 0.5min | nr | 1 | 700 | 11.47 M |",
                            "path tracing, 1000 spp", "| 4 | 0.5min | 0.003 | isnr-ikl | 0.0025 | 0.0035 |"})
     EXPECT_THAT(md, HasSubstr(part));
 }
