@@ -1,6 +1,7 @@
 #include "cl/context.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "cl/error.hpp"
@@ -44,6 +45,15 @@ const Program& Context::program(const std::vector<std::string>& files, const std
     }
     reclaim_signals();  // the compiler may have installed its handlers
     ++programs_built_;
+    // A test lane's check that every kernel builds clean: its warnings fail the build there (and stay out of the
+    // user's terminal everywhere else, in the program's build log).
+    if (const char* strict = std::getenv("CLRADIOSITY_KERNEL_WARNINGS");
+        strict && std::string(strict) == "error" && has_warning(slot->build_log())) {
+      const std::string log = slot->build_log(), names = slot->names();
+      programs_.erase(key);
+      throw Error(CL_BUILD_PROGRAM_FAILURE, "OpenCL program [" + names + "] with options '" + options +
+                                                "' built with warnings (CLRADIOSITY_KERNEL_WARNINGS=error):\n" + log);
+    }
   }
   return *slot;
 }

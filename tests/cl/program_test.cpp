@@ -65,6 +65,41 @@ TEST_F(ClTest, ProgramsAreBuiltOncePerFilesAndOptions) {
   EXPECT_EQ(ctx().programs_built(), before + 2);
 }
 
+// The compiler's warnings stay in the program's build log, off the terminal; CLRADIOSITY_KERNEL_WARNINGS=error (the
+// test lane that checks every kernel builds clean) makes them a build failure naming the files.
+TEST_F(ClTest, KernelWarningsStayInTheBuildLog) {
+  const char* lane = std::getenv("CLRADIOSITY_KERNEL_WARNINGS");  // the ci preset's, restored at the end
+  const std::string lane_value = lane ? lane : "";
+  {
+    KernelDir dir;
+    dir.write("warned.cl",
+              "#warning \"clr kernel warning test\"\n__kernel void warned(__global float* x) { x[0] = 1.0f; }\n");
+    unsetenv("CLRADIOSITY_KERNEL_WARNINGS");
+    ::testing::internal::CaptureStderr();
+    const auto& program = ctx().program({"warned.cl"}, "-DCLR_WARNED=1");
+    const std::string printed = ::testing::internal::GetCapturedStderr();
+    EXPECT_THAT(program.build_log(), HasSubstr("clr kernel warning test"));
+    EXPECT_TRUE(cl::has_warning(program.build_log()));
+    EXPECT_THAT(printed, ::testing::Not(HasSubstr("warning"))) << "the compiler's chatter reached stderr";
+
+    setenv("CLRADIOSITY_KERNEL_WARNINGS", "error", 1);
+    try {
+      ctx().program({"warned.cl"}, "-DCLR_WARNED=2");
+      FAIL() << "a kernel with a warning built under CLRADIOSITY_KERNEL_WARNINGS=error";
+    } catch (const cl::Error& e) {
+      EXPECT_EQ(e.status(), CL_BUILD_PROGRAM_FAILURE);
+      EXPECT_THAT(e.what(), HasSubstr("warned.cl"));
+      EXPECT_THAT(e.what(), HasSubstr("clr kernel warning test"));
+    }
+  }
+  if (lane)
+    setenv("CLRADIOSITY_KERNEL_WARNINGS", lane_value.c_str(), 1);
+  else
+    unsetenv("CLRADIOSITY_KERNEL_WARNINGS");
+  // The clean kernels the engine builds have an empty log, or one without warnings.
+  EXPECT_FALSE(cl::has_warning(ctx().program({"atomics.cl", "reduce.cl"}, "-DCLR_WARNED=3").build_log()));
+}
+
 TEST_F(ClTest, BuildErrorCarriesTheBuildLog) {
   KernelDir dir;
   dir.write("broken.cl", "__kernel void broken(__global float* x) {\n  x[0] = undeclared_name;\n}\n");
