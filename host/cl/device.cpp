@@ -10,6 +10,7 @@
 #include "cl/error.hpp"
 #include "cl/no_platform.hpp"
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 
 namespace clr::cl {
 namespace {
@@ -99,13 +100,15 @@ void emulate_nvidia_limits(DeviceInfo& d) {
   d.emulated = "nvidia";
 }
 
+bool emulating_nvidia_limits() {
+  const char* env = std::getenv("CLRADIOSITY_EMULATE_LIMITS");
+  if (!env || !*env) return false;
+  if (lower(env) != "nvidia") throw InputError("CLRADIOSITY_EMULATE_LIMITS='" + clip(env) + "' is not one of: nvidia");
+  return true;
+}
+
 std::vector<DeviceInfo> list_devices() {
-  bool emulate_nvidia = false;
-  if (const char* env = std::getenv("CLRADIOSITY_EMULATE_LIMITS"); env && *env) {
-    if (lower(env) != "nvidia")
-      throw InputError(std::string("CLRADIOSITY_EMULATE_LIMITS='") + env + "' is not one of: nvidia");
-    emulate_nvidia = true;
-  }
+  const bool emulate_nvidia = emulating_nvidia_limits();
   cl_uint np = 0;
   const cl_int status = clGetPlatformIDs(0, nullptr, &np);
   if (status == -1001 /* CL_PLATFORM_NOT_FOUND_KHR: the ICD loader found no driver */ || np == 0) return {};

@@ -57,6 +57,8 @@ std::vector<DeviceInfo> list_devices();
 
 // Clamps `device` to NVIDIA's OpenCL limits (what CLRADIOSITY_EMULATE_LIMITS=nvidia applies).
 void emulate_nvidia_limits(DeviceInfo& device);
+// CLRADIOSITY_EMULATE_LIMITS: true for "nvidia", false when unset or empty; InputError naming it otherwise.
+bool emulating_nvidia_limits();
 
 // Resolves SPEC (empty: CLRADIOSITY_DEVICE, then the default rule) against `devices`: the first match, or with
 // `nth` the nth of the matches round-robin (an MPI rank passes its local rank; "P:D" pins one device).

@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 
 namespace clr::cl {
 namespace detail {
@@ -27,6 +28,14 @@ std::string kernel_source(const std::string& file) {
   const auto it = table.find(file);
   if (it == table.end()) throw std::runtime_error("no embedded kernel file '" + file + "'");
   return std::string(it->second);
+}
+
+void check_kernel_environment() {
+  if (const char* dir = std::getenv("CLRADIOSITY_KERNEL_DIR"); dir && *dir && !std::filesystem::is_directory(dir))
+    throw InputError("CLRADIOSITY_KERNEL_DIR='" + clip(dir) + "' is not a folder");
+  if (const char* strict = std::getenv("CLRADIOSITY_KERNEL_WARNINGS");
+      strict && *strict && std::string(strict) != "error")
+    throw InputError("CLRADIOSITY_KERNEL_WARNINGS='" + clip(strict) + "' is not 'error' (or unset)");
 }
 
 std::vector<std::string> embedded_kernel_files() {

@@ -9,4 +9,8 @@ namespace clr::cl {
 std::string kernel_source(const std::string& file);
 std::vector<std::string> embedded_kernel_files();
 
+// InputError naming the variable unless CLRADIOSITY_KERNEL_DIR (a folder) and CLRADIOSITY_KERNEL_WARNINGS ("error")
+// are unset, empty or usable.
+void check_kernel_environment();
+
 }  // namespace clr::cl

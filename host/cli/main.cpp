@@ -18,6 +18,7 @@
 #include "common/progress.hpp"
 #include "common/stop_signal.hpp"
 #include "distributed/communicator.hpp"
+#include "radiosity/environment.hpp"
 #include "radiosity/preset.hpp"
 
 namespace clr::cli {
@@ -166,6 +167,7 @@ int run(int argc, char** argv) {
     app.parse(argc, argv);
     if (quiet) clr::Progress::silence_process();
     clr::cli::apply_thread_count();
+    clr::radiosity::check_environment();
     const auto& ranks = clr::distributed::Communicator::world();
     if (ranks.distributed()) {
       const CLI::App* parsed = nullptr;

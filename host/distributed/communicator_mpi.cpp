@@ -154,8 +154,18 @@ void roll_call(MPI_Request& request, int rank, int size, const char* what, doubl
 // waits, and lets it give up after the timeout. A pause of this process (SIGSTOP of the whole job, Ctrl-Z) restarts
 // the clock rather than counting as the others' silence.
 void Communicator::wait(void* pending, const char* what) const {
-  static const double timeout = collective_timeout();
   auto& request = *static_cast<MPI_Request*>(pending);
+  // A bad value is refused only once this collective is complete: MPI would otherwise go on writing into buffers
+  // the exception frees (heap corruption, then an abort in MPI_Finalize). Every rank reads the same value, so all
+  // of them complete it and fail here together.
+  static const double timeout = [&] {
+    try {
+      return collective_timeout();
+    } catch (const JobInputError&) {
+      MPI_Wait(&request, MPI_STATUS_IGNORE);
+      throw;
+    }
+  }();
   auto start = std::chrono::steady_clock::now();
   unsigned continued = continue_count();
   StopWatch stop(what);

@@ -32,7 +32,13 @@ StepSchedule parse_step_schedule(const std::string& text) {
 }
 
 StepSchedule default_schedule() {
-  if (const char* env = std::getenv("CLRADIOSITY_STEP_SCHEDULE"); env && *env) return parse_step_schedule(env);
+  if (const char* env = std::getenv("CLRADIOSITY_STEP_SCHEDULE"); env && *env) {
+    try {
+      return parse_step_schedule(env);
+    } catch (const InputError& e) {
+      throw InputError(std::string("CLRADIOSITY_STEP_SCHEDULE: ") + e.what());
+    }
+  }
   // Pipelined on every device: on GPUs it hides the host's stages; on PoCL, where host and device share the cores,
   // it was not slower than serial (docs/results/benchmarks.md), so one schedule serves both.
   return StepSchedule::Pipelined;

@@ -18,6 +18,7 @@
 #include "geometry/surface_sampler.hpp"
 #include "image/image.hpp"
 #include "image/image_format.hpp"
+#include "radiosity/environment.hpp"
 #include "radiosity/preset.hpp"
 #include "radiosity/run_directory.hpp"
 #include "radiosity/scene_inputs.hpp"
@@ -79,6 +80,7 @@ const std::vector<SettingFlag>& setting_flags() {
 }
 
 TrainOutcome train(const TrainRequest& request) {
+  check_environment();  // before any file of the run is written (the Python module comes here directly)
   const auto& opt = request;
   TrainConfig config;
   if (!opt.config_file.empty()) config = load_train_config(opt.config_file);

@@ -23,6 +23,15 @@ std::vector<std::string> format_arguments(const std::filesystem::path& video) {
   return {};
 }
 
+// The frames' pattern as ffmpeg's image2 demuxer reads it: a '%' of the folder's own name doubled (it would start a
+// pattern), the path absolute (a name starting with '-' would read as an option, one like "a:b" as a protocol).
+std::string frames_pattern(const std::filesystem::path& frames_dir) {
+  std::string folder;
+  for (const char c : std::filesystem::absolute(frames_dir).string())
+    folder += c == '%' ? std::string("%%") : std::string(1, c);
+  return folder + "/frame_%05d.png";
+}
+
 }  // namespace
 
 void require_video_writer(const std::filesystem::path& video) {
@@ -40,10 +49,10 @@ bool write_video(const std::filesystem::path& frames_dir, std::size_t frames, do
       std::vector<std::string> args = {"ffmpeg",     "-y",
                                        "-loglevel",  "error",
                                        "-framerate", std::to_string(fps),
-                                       "-i",         (frames_dir / "frame_%05d.png").string(),
+                                       "-i",         frames_pattern(frames_dir),
                                        "-frames:v",  std::to_string(frames)};
       for (auto& a : format_arguments(video)) args.push_back(a);
-      args.push_back(tmp.string());
+      args.push_back(std::filesystem::absolute(tmp).string());  // absolute for the same reasons as the frames
       const ProgramResult r = run_program(args, false);
       if (stop_requested()) throw Stopped{};  // ffmpeg was stopped too: its partial file is removed with the temporary
       if (!r.ok) throw std::runtime_error("ffmpeg failed to write " + video.string() + ": " + r.cause);

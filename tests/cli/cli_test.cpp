@@ -152,5 +152,31 @@ TEST(Cli, ThreadCountIsCheckedAndChangesNoResult) {
   std::filesystem::remove_all(dir);
 }
 
+// Every CLRADIOSITY_* variable is checked before any work, on every command that computes: one line naming it, exit
+// 2, and nothing written (a bad step schedule was refused only once the run folder existed).
+TEST(Cli, EnvironmentIsCheckedBeforeAnyOutput) {
+  const std::string box = std::string(CLR_SOURCE_DIR) + "/scenes/cornell-box.xml";
+  const auto dir = std::filesystem::temp_directory_path() / ("clr_environment_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string out = (dir / "out").string();
+  const std::pair<const char*, const char*> variables[] = {{"CLRADIOSITY_STEP_SCHEDULE", "fast"},
+                                                           {"CLRADIOSITY_STEP_SCHEDULE", "Serial "},
+                                                           {"CLRADIOSITY_KERNEL_DIR", "/nonexistent/kernels"},
+                                                           {"CLRADIOSITY_KERNEL_WARNINGS", "yes"},
+                                                           {"CLRADIOSITY_EMULATE_LIMITS", "amd"}};
+  for (const auto& [name, value] : variables)
+    for (const std::string& command :
+         {"train " + box + " --steps 2 --batch 64 -o " + out, "reference " + box + " --spp 1 -o " + out + ".exr",
+          "render " + box + " --model " + out + " -o " + out + ".exr", std::string("devices")}) {
+      const auto r = run_cli(command, std::string(name) + "='" + value + "'");
+      EXPECT_EQ(r.exit_code, 2) << name << "=" << value << " " << command << ": " << r.err;
+      EXPECT_THAT(r.err, HasSubstr(name)) << command;
+      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << command << ": " << r.err;
+      EXPECT_FALSE(std::filesystem::exists(out)) << name << ": " << command << " left a run folder";
+      EXPECT_FALSE(std::filesystem::exists(out + ".exr")) << name << ": " << command << " left an image";
+    }
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace clr::test

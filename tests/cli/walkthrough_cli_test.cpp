@@ -120,6 +120,16 @@ TEST_F(WalkthroughCli, AVideoWhereFfmpegIsAndAClearLineWhereItIsNot) {
   EXPECT_THAT(r.out, HasSubstr("video: " + video.string()));
   EXPECT_GT(fs::file_size(video), 0u);
   EXPECT_EQ(count(frames, ".png"), 4u) << "the video is made from the PNGs";
+  // Folder and file names that mean something to ffmpeg are only names: '%' starts an image pattern, "a:b" reads as
+  // a protocol.
+  for (const std::string name : {"50%frames", "frames%05d", "file:frames", "%d"}) {
+    const fs::path odd = dir / name, odd_video = dir / (name + ".gif");
+    r = run_cli(render("--orbit 3 --width 16 --height 16 --spp 1 --video '" + odd_video.string() + "' -o '" +
+                       odd.string() + "'"));
+    ASSERT_EQ(r.exit_code, 0) << name << ": " << r.err;
+    EXPECT_GT(fs::file_size(odd_video), 0u) << name;
+    EXPECT_EQ(count(odd, ".png"), 3u) << name;
+  }
 }
 
 // Waits up to `seconds` for `ready`; then SIGINT to `pid`, and how long it took to end (−1: it did not within 10 s,

@@ -84,6 +84,21 @@ rc=$?
 grep -q "clradiosity: error: rank [01]: .*missing.xml" "$work/bad.out" || fail "no error line naming the scene"
 [ $((SECONDS - start)) -lt 30 ] || fail "bad input took $((SECONDS - start)) s to end the job"
 
+echo "== a bad CLRADIOSITY_MPI_TIMEOUT ends every rank with exit 2 and one line, whatever command reads it first"
+# The value is read in the first collective, whose buffers MPI still owns until it completes: refusing it before
+# then corrupted the heap (an abort in MPI_Finalize, exit 134).
+for value in abc nan -5 0.5 5s 1e400; do
+  for command in "train $scene --steps 2 --batch 64 -o $work/timeout" "reference $scene --spp 1 --width 8 --height 8 -o $work/timeout.exr"; do
+    rm -rf "$work/timeout" "$work/timeout.exr"
+    CLRADIOSITY_MPI_TIMEOUT=$value "$mpirun" -x CLRADIOSITY_MPI_TIMEOUT -n 2 "$cli" $command >"$work/timeout.out" 2>&1
+    rc=$?
+    [ "$rc" -eq 2 ] || fail "exit $rc for CLRADIOSITY_MPI_TIMEOUT='$value' ($command), want 2: $(head -3 "$work/timeout.out")"
+    [ "$(grep -c "clradiosity: error: CLRADIOSITY_MPI_TIMEOUT '$value'" "$work/timeout.out")" -eq 1 ] ||
+      fail "not one line naming CLRADIOSITY_MPI_TIMEOUT='$value': $(head -3 "$work/timeout.out")"
+    [ ! -e "$work/timeout" ] && [ ! -e "$work/timeout.exr" ] || fail "output left behind for a refused timeout"
+  done
+done
+
 echo "== a rank killed mid-run ends the job within seconds; the checkpoint resumes on one rank"
 cat >"$work/small.json" <<'EOF'
 {"log_every": 2, "checkpoint_every": 4, "batch": 256,
