@@ -323,6 +323,7 @@ PYBIND11_MODULE(_clradiosity, m) {
         d["steps"] = outcome.steps;
         d["peak_device_mib"] = outcome.peak_device_mib;
         d["convergence"] = outcome.convergence ? py::object(py::str(outcome.convergence->string())) : py::none();
+        d["side_output_failures"] = outcome.side_output_failures;
         return d;
       },
       py::arg("scene"), py::arg("run_dir"), py::arg("device"), py::arg("preset"), py::arg("config_file"),

@@ -141,6 +141,10 @@ Command add_train_command(CLI::App& app) {
             std::cout << "peak device memory: " << outcome.peak_device_mib << " MiB\n";
             if (outcome.preview_written) std::cout << "preview: " << opt->preview << "\n";
             if (outcome.convergence) std::cout << "convergence: " << outcome.convergence->string() << "\n";
+            if (outcome.side_output_failures > 0)
+              std::cerr << "train: " << outcome.side_output_failures
+                        << " preview, evaluation or figure write(s) failed (reported above); the model and its "
+                           "checkpoint are complete\n";
             return 0;
           }};
 }

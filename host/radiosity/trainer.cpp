@@ -316,10 +316,23 @@ void Trainer::run(const RunOptions& options) {
   double lr_scale = 1;
   long last_evaluated = -1;
   LogRow last_row;  // the row last written, for the run's final evaluation when no row follows it
+  // A hook (evaluation, after_step) runs between steps, where the parameters are whole: should it throw, the steps
+  // trained so far are checkpointed before the exception leaves (a failure of that write gives way to the hook's).
+  const auto guarded = [&](auto&& hook) {
+    try {
+      return hook();
+    } catch (...) {
+      try {
+        save_checkpoint();
+      } catch (...) {
+      }
+      throw;
+    }
+  };
   // The model's figures for `now`'s row, timed out of the training time.
   const auto evaluation = [&](long now) {
     const auto evaluate_start = std::chrono::steady_clock::now();
-    const image::Metrics m = options.evaluate();
+    const std::optional<image::Metrics> m = guarded(options.evaluate);
     outside_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - evaluate_start).count();
     last_evaluated = now;
     return m;
@@ -396,7 +409,7 @@ void Trainer::run(const RunOptions& options) {
     seconds_this_session_ = elapsed();
     if (options.after_step) {
       const auto hook_start = std::chrono::steady_clock::now();
-      options.after_step(seconds_trained());
+      guarded([&] { options.after_step(seconds_trained()); });
       outside_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - hook_start).count();
     }
   }

@@ -68,9 +68,11 @@ class Trainer {
     std::function<void(double seconds)> after_step;
     // Called at every `evaluate_every`-th step and at the run's last step (not after a stop signal); its figures
     // go into that step's log.csv row, which is logged whatever log_every says (convergence.hpp: train
-    // --reference). Its time, like after_step's, is not training time.
+    // --reference); nullopt (an evaluation that failed) leaves the row's columns empty. Its time, like
+    // after_step's, is not training time. Should either throw, the run's checkpoint is written before the
+    // exception leaves run(): what a side output does cannot cost the steps trained.
     long evaluate_every = 0;
-    std::function<image::Metrics()> evaluate;
+    std::function<std::optional<image::Metrics>()> evaluate;
   };
   // Trains until the step or time budget is spent or a stop signal arrives; checkpoints at the end.
   void run(const RunOptions& options);

@@ -2,7 +2,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <iostream>
+#include <map>
+#include <new>
 #include <nlohmann/json.hpp>
 
 #include "cl/context.hpp"
@@ -43,6 +46,33 @@ void print_exchange(const distributed::ExchangeStats& s, std::uint64_t steps) {
 
 // A resumed run keeps its settings: a flag that asks for another value than the run has is refused, naming both,
 // rather than silently dropped. `given` holds the flags' values (over defaults), `saved` the run's config.
+// What watches a run (its preview, evaluations, convergence figure) fails without ending it: a folder replaced, a
+// disk full, a file made unwritable mid-run. Each failure is one line on stderr (the first of each output; later
+// ones are counted), and the training goes on to its checkpoint.
+class SideOutputs {
+ public:
+  // Runs `write`; false, reported, when it threw.
+  bool attempt(const std::string& what, const std::function<void()>& write) {
+    try {
+      write();
+      return true;
+    } catch (const std::bad_alloc&) {
+      throw;  // the process's own memory: not the output's fault
+    } catch (const std::exception& e) {
+      if (failed_[what]++ == 0)
+        std::cerr << "\ntrain: warning: " << what << " failed (" << clip(e.what(), 240)
+                  << "); the training goes on and keeps its checkpoint\n";
+      ++failures_;
+      return false;
+    }
+  }
+  std::size_t failures() const { return failures_; }
+
+ private:
+  std::map<std::string, std::size_t> failed_;
+  std::size_t failures_ = 0;
+};
+
 void require_same_settings(const radiosity::TrainConfig& given, const radiosity::TrainConfig& saved,
                            const std::function<bool(const char*)>& flag_given) {
   const nlohmann::json g = given, s = saved;
@@ -159,6 +189,7 @@ TrainOutcome train(const TrainRequest& request) {
     other_rank.rank_zero = false;
     return other_rank;
   }
+  SideOutputs side_outputs;
   Trainer::RunOptions watch;
   const auto field = radiance_query(ctx, trainer.network());
   auto evaluation = opt.evaluation;
@@ -185,12 +216,18 @@ TrainOutcome train(const TrainRequest& request) {
                          {"mode", "--eval-mode"}});
     if (!given("--eval-every")) evaluation.every = trainer.config().checkpoint_every;
     watch.evaluate_every = evaluation.every;
-    watch.evaluate = [&] {
-      return evaluate_model(geometry, field, *reference, evaluation.spp, evaluation.mode).metrics;
+    watch.evaluate = [&]() -> std::optional<image::Metrics> {
+      std::optional<image::Metrics> m;
+      side_outputs.attempt("an evaluation against --reference", [&] {
+        m = evaluate_model(geometry, field, *reference, evaluation.spp, evaluation.mode).metrics;
+      });
+      return m;
     };
   }
   const auto write_preview = [&] {
-    image::write_png(opt.preview, render(geometry, field, preview_settings(scene.camera)));
+    return side_outputs.attempt("--preview " + opt.preview, [&] {
+      image::write_png(opt.preview, render(geometry, field, preview_settings(scene.camera)));
+    });
   };
   const long preview_every = given("--preview-every") ? opt.preview_every
                              : evaluate               ? evaluation.every
@@ -216,11 +253,9 @@ TrainOutcome train(const TrainRequest& request) {
   outcome.model = RunDirectory::model_path(opt.run_dir);
   outcome.steps = trainer.steps_done();
   outcome.peak_device_mib = double(ctx.peak_bytes()) / double(1 << 20);
-  if (preview && !stop_requested()) {
-    write_preview();
-    outcome.preview_written = true;
-  }
-  outcome.convergence = write_convergence_figure(opt.run_dir);
+  if (preview && !stop_requested()) outcome.preview_written = write_preview();
+  side_outputs.attempt("the convergence figure", [&] { outcome.convergence = write_convergence_figure(opt.run_dir); });
+  outcome.side_output_failures = side_outputs.failures();
   return outcome;
 }
 

@@ -47,6 +47,9 @@ struct TrainOutcome {
   double peak_device_mib = 0;
   bool preview_written = false;
   std::optional<std::filesystem::path> convergence;  // the figure, where the log had rows to draw
+  // Previews, evaluations and figures that failed (each reported on stderr as it happened); the training and its
+  // checkpoint are whole regardless.
+  std::size_t side_output_failures = 0;
 };
 
 // The settings `train` takes by flag, and where each lives in config.json (a JSON pointer). A resumed run refuses one

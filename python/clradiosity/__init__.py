@@ -17,6 +17,7 @@ training at its next step with a checkpoint (``resume=True`` continues it) and t
 import csv
 import json
 import os
+import warnings
 
 import numpy as np
 
@@ -132,11 +133,15 @@ def train(scene, out, *, steps=None, minutes=None, method=None, config=None, pre
         flags.append("--eval-mode")
     if preview_every is not None:
         flags.append("--preview-every")
-    _native.train(scene, os.fspath(out), device or "", preset or "", config_file, config_json, bool(resume), apply,
-                  flags, os.fspath(reference) if reference is not None else "", int(eval_every or 0),
-                  int(eval_spp or 0), str(eval_mode or ""), os.fspath(preview) if preview is not None else "",
-                  int(preview_every or 0),
-                  report if callback is not None else None)
+    outcome = _native.train(scene, os.fspath(out), device or "", preset or "", config_file, config_json,
+                            bool(resume), apply, flags, os.fspath(reference) if reference is not None else "",
+                            int(eval_every or 0), int(eval_spp or 0), str(eval_mode or ""),
+                            os.fspath(preview) if preview is not None else "", int(preview_every or 0),
+                            report if callback is not None else None)
+    if outcome["side_output_failures"]:
+        # Each was reported on stderr as it happened; the model and its checkpoint are whole.
+        warnings.warn(f"train: {outcome['side_output_failures']} preview, evaluation or figure write(s) failed "
+                      f"(reported above); the training and its checkpoint are complete", RuntimeWarning, stacklevel=2)
     return Run(out, scene=scene, device=device)
 
 

@@ -272,6 +272,62 @@ TEST_F(FaultCli, UnwritableOutputsExitTwoBeforeTheWork) {
   if (::geteuid() != 0) fs::permissions(dir / "locked", fs::perms::owner_all, fs::perm_options::replace);
 }
 
+// What watches a run fails without ending it: a preview whose folder is replaced by a file mid-run, a convergence
+// figure whose path became a folder. Each is one warning line; the training runs to its budget, its checkpoint and
+// log are whole, and it resumes.
+TEST_F(FaultCli, SideOutputsThatFailCostNoTraining) {
+  const fs::path run = dir / "run", previews = dir / "previews", reference = dir / "ref.exr";
+  ASSERT_EQ(run_cli("reference " + kBox + " --spp 1 --width 16 --height 16 -o " + reference.string()).exit_code, 0);
+  fs::create_directories(previews);
+  std::thread saboteur([&] {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (!fs::exists(previews / "p.png") && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    fs::remove_all(previews);
+    std::ofstream(previews) << "a file where the preview's folder was";
+    fs::create_directories(run / "convergence.svg" / "in the way");
+  });
+  const auto r = run_cli("train " + kBox + " --steps 150 --config " + config + " --preview " +
+                         (previews / "p.png").string() + " --preview-every 5 --reference " + reference.string() +
+                         " --eval-every 10 --eval-spp 1 -o " + run.string());
+  saboteur.join();
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto count = [&](const std::string& text) {
+    std::size_t n = 0;
+    for (auto at = r.err.find(text); at != std::string::npos; at = r.err.find(text, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("warning: --preview " + (previews / "p.png").string() + " failed"), 1u)
+      << "one line for the preview however often it fails: " << r.err;
+  EXPECT_EQ(count("warning: the convergence figure failed"), 1u) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("the model and its checkpoint are complete"));
+  EXPECT_THAT(r.out, HasSubstr("(150 steps)"));
+  EXPECT_THAT(r.out, Not(HasSubstr("preview: "))) << "the last preview was not written: not reported as written";
+  std::ifstream log(run / "log.csv");
+  std::string header, line, last;
+  std::getline(log, header);
+  while (std::getline(log, line))
+    if (!line.empty()) last = line;
+  EXPECT_EQ(last.substr(0, 4), "150,") << last;
+  const auto cells = [](const std::string& row) {
+    std::vector<std::string> out(1);
+    for (const char c : row)
+      if (c == ',')
+        out.emplace_back();
+      else
+        out.back().push_back(c);
+    return out;
+  };
+  const auto names = cells(header), values = cells(last);
+  const auto mape = std::size_t(std::find(names.begin(), names.end(), "mape") - names.begin());
+  ASSERT_LT(mape, values.size()) << header;
+  EXPECT_FALSE(values[mape].empty()) << "the evaluations went on: the last row has its MAPE: " << last;
+  fs::remove_all(run / "convergence.svg");
+  const auto resumed = run_cli("train " + kBox + " --resume --steps 160 -o " + run.string());
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_THAT(resumed.out, HasSubstr("(160 steps)"));
+}
+
 TEST_F(FaultCli, AFullDeviceExitsOneAndNamesTheReason) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
   // /dev/full fails every write with ENOSPC: the disk-full case, written through as a device is.
