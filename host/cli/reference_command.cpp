@@ -16,21 +16,10 @@
 #include "image/image_format.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/fingerprint.hpp"
+#include "scene/reference_record.hpp"
 
 namespace clr::cli {
 namespace {
-
-// What decides a reference's samples beside their count, as its EXR records them: the image of one render continues
-// only under the same values.
-std::map<std::string, std::string> identity(const std::string& scene_digest, const scene::Camera& camera, int sensor,
-                                            int max_depth, std::uint64_t seed) {
-  return {{"sceneDigest", scene_digest},
-          {"sensor", std::to_string(sensor)},
-          {"size", std::to_string(camera.width) + "x" + std::to_string(camera.height)},
-          {"maxDepth", std::to_string(max_depth)},
-          {"pixelFilter", camera.filter.describe()},
-          {"seed", std::to_string(seed)}};
-}
 
 // The image `path` holds of an earlier render with `wanted`'s identity, and its spp and seconds; InputError naming
 // what differs where it is not one.
@@ -118,8 +107,8 @@ Command add_reference_command(CLI::App& app) {
         if (!scene.integrator_note.empty() && !opt->render.max_depth && ranks.rank() == 0 && !Progress::silenced())
           std::fprintf(stderr, "%s\n", terminal_safe(scene.integrator_note).c_str());
         const std::string digest = scene::fingerprint(scene).digest;
-        const auto wanted = identity(digest, scene.camera.resized(opt->render.width, opt->render.height), opt->sensor,
-                                     max_depth, opt->render.seed);
+        const auto wanted = scene::reference_record(digest, scene.camera.resized(opt->render.width, opt->render.height),
+                                                    opt->sensor, max_depth, opt->render.seed);
         // A stop keeps the finished passes (a few samples per pixel each) in one process; ranks would each stop after
         // another pass, so under mpirun a stop ends the job as it ends any.
         opt->render.stoppable = !ranks.distributed();

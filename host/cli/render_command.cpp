@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <optional>
 
 #include "cl/context.hpp"
@@ -15,6 +16,7 @@
 #include "common/atomic_file.hpp"
 #include "common/digest.hpp"
 #include "common/error.hpp"
+#include "common/progress.hpp"
 #include "common/run_lock.hpp"
 #include "common/stop_signal.hpp"
 #include "geometry/geometry.hpp"
@@ -23,6 +25,7 @@
 #include "radiosity/run_directory.hpp"
 #include "radiosity/trained_model.hpp"
 #include "scene/fingerprint.hpp"
+#include "scene/reference_record.hpp"
 #include "scene/sensors/camera_path.hpp"
 #include "walkthrough/break_even.hpp"
 #include "walkthrough/frame_sequence.hpp"
@@ -135,7 +138,14 @@ int render_image(Options& opt, scene::Scene& scene) {
   // A reference that cannot be read fails before the render, not after it.
   std::optional<image::Image> reference;
   if (!opt.reference.empty()) {
-    reference = image::read_exr(opt.reference);
+    std::map<std::string, std::string> attributes;
+    reference = image::read_exr(opt.reference, &attributes);
+    // Recorded references of another scene or sensor are refused; a --camera view is no sensor's.
+    if (const std::string warning =
+            scene::check_reference_record(attributes, scene::fingerprint(scene).digest,
+                                          opt.camera.empty() ? opt.sensor : -1, "--reference", opt.reference);
+        !warning.empty() && !Progress::silenced())
+      std::cerr << "render: warning: " << warning << "\n";
     const scene::Camera view = scene.camera.resized(opt.settings.width, opt.settings.height);
     try {
       image::require_matching_size(reference->width, reference->height, view.width, view.height);

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <iostream>
+#include <map>
 #include <sstream>
 #include <string_view>
 
@@ -13,6 +15,8 @@
 #include "common/input_file.hpp"
 #include "image/line_chart.hpp"
 #include "radiosity/run_directory.hpp"
+#include "scene/fingerprint.hpp"
+#include "scene/reference_record.hpp"
 
 namespace clr::radiosity {
 namespace fs = std::filesystem;
@@ -37,13 +41,19 @@ double field_value(const std::vector<std::string>& fields, std::size_t column) {
 
 }  // namespace
 
-image::Image read_evaluation_reference(const fs::path& file, const scene::Camera& camera) {
+image::Image read_evaluation_reference(const fs::path& file, const scene::Scene& scene, int sensor) {
+  const scene::Camera& camera = scene.camera;
   image::Image reference;
+  std::map<std::string, std::string> attributes;
   try {
-    reference = image::read_exr(file);
+    reference = image::read_exr(file, &attributes);
   } catch (const InputError& e) {
     throw InputError("--reference " + file.string() + ": " + e.what());
   }
+  if (const std::string warning = scene::check_reference_record(attributes, scene::fingerprint(scene).digest, sensor,
+                                                                "--reference", file.string());
+      !warning.empty())
+    std::cerr << "train: warning: " << warning << "\n";
   // Equal ratios in integers: a film of 1280×720 takes a reference of 640×360 or 2560×1440, not 640×361.
   if (std::int64_t(reference.width) * camera.height != std::int64_t(reference.height) * camera.width)
     throw InputError("--reference " + file.string() + ": " + std::to_string(reference.width) + "x" +
@@ -62,6 +72,7 @@ nlohmann::json evaluation_record(const EvaluationSettings& settings, const image
                            {"height", reference.height},
                            {"spp", settings.spp}};
   if (settings.mode == RenderMode::rhs) record["mode"] = "rhs";
+  if (settings.sensor != 0) record["sensor"] = settings.sensor;
   return record;
 }
 

@@ -22,15 +22,18 @@ struct EvaluationSettings {
   long every = 0;                     // steps between evaluations (the run's last step is evaluated too)
   int spp = RenderSettings{}.spp;     // camera rays per pixel, as `render --spp`
   RenderMode mode = RenderMode::lhs;  // the image, as `render --mode`
+  int sensor = 0;                     // the scene's sensor the images are taken from (train --sensor)
 };
 
-// The reference an evaluation compares against: InputError naming `file` when it cannot be read, or when its
-// aspect ratio is not the camera's film's (the model is rendered at the reference's size with the scene's camera:
-// another aspect would be another view).
-image::Image read_evaluation_reference(const std::filesystem::path& file, const scene::Camera& camera);
+// The reference an evaluation compares against: InputError naming `file` when it cannot be read, when its aspect
+// ratio is not the camera's film's (the model is rendered at the reference's size with the scene's camera: another
+// aspect would be another view), or when its header records another scene or sensor (scene/reference_record.hpp;
+// one recording less than the whole transport gets a warning line).
+image::Image read_evaluation_reference(const std::filesystem::path& file, const scene::Scene& scene, int sensor);
 
-// What RUN_DIR/evaluation.json records of an evaluation: the reference's content (a digest), its size, the spp and
-// the image mode (recorded only where it is not the default lhs, so that older runs' records still match).
+// What RUN_DIR/evaluation.json records of an evaluation: the reference's content (a digest), its size, the spp, the
+// image mode and the sensor (the last two recorded only where they are not the defaults, lhs and 0, so that older
+// runs' records still match).
 nlohmann::json evaluation_record(const EvaluationSettings& settings, const image::Image& reference);
 
 struct Evaluation {

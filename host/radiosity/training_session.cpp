@@ -160,7 +160,7 @@ TrainOutcome train(const TrainRequest& request) {
       inputs.push_back(f);
     image::output_format(opt.preview, "--preview", {image::Format::Png});
     require_outputs({{opt.preview, "--preview"}}, inputs);
-    if (evaluate) reference = read_evaluation_reference(opt.evaluation.reference, scene.camera);
+    if (evaluate) reference = read_evaluation_reference(opt.evaluation.reference, scene, opt.sensor);
   }
   // A run's config.json holds the networks of its scene (bounding box, inputs): reusing it for another
   // scene is a deliberate act.
@@ -193,6 +193,7 @@ TrainOutcome train(const TrainRequest& request) {
   Trainer::RunOptions watch;
   const auto field = radiance_query(ctx, trainer.network());
   auto evaluation = opt.evaluation;
+  evaluation.sensor = opt.sensor;
   if (evaluate) {
     // A resumed run's columns keep measuring what they measured: its spp and image mode unless given, and the same
     // reference. The record names the mode only where it is rhs, so an lhs given against it is refused here.
@@ -213,7 +214,8 @@ TrainOutcome train(const TrainRequest& request) {
                          {"width", "--reference (its width)"},
                          {"height", "--reference (its height)"},
                          {"spp", "--eval-spp"},
-                         {"mode", "--eval-mode"}});
+                         {"mode", "--eval-mode"},
+                         {"sensor", "--sensor"}});
     if (!given("--eval-every")) evaluation.every = trainer.config().checkpoint_every;
     watch.evaluate_every = evaluation.every;
     watch.evaluate = [&]() -> std::optional<image::Metrics> {

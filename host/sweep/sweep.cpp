@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "common/atomic_file.hpp"
 #include "common/digest.hpp"
@@ -13,6 +14,7 @@
 #include "common/subprocess.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/fingerprint.hpp"
+#include "scene/reference_record.hpp"
 #include "sweep/configuration_run.hpp"
 #include "sweep/path_tracing.hpp"
 #include "sweep/tables.hpp"
@@ -38,11 +40,18 @@ void check_options(const SweepOptions& o) {
 image::Image reference_image(const geometry::Geometry& geometry, const SweepOptions& o, int width, int height) {
   const image::Image like(width, height);
   if (!o.reference.empty()) {
+    std::map<std::string, std::string> attributes;
+    image::Image given;
     try {
-      return image::match_size(image::read_exr(o.reference), like);
+      given = image::match_size(image::read_exr(o.reference, &attributes), like);
     } catch (const InputError& e) {
       throw InputError("--reference " + o.reference.string() + ": " + e.what());
     }
+    if (const std::string warning = scene::check_reference_record(
+            attributes, scene::fingerprint(geometry.scene()).digest, o.sensor, "--reference", o.reference.string());
+        !warning.empty())
+      std::fprintf(stderr, "sweep: warning: %s\n", warning.c_str());
+    return given;
   }
   const fs::path path = o.dir / "reference.exr";
   if (fs::exists(path)) {

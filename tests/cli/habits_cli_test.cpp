@@ -211,6 +211,53 @@ TEST_F(HabitsCli, SensorPicksTheView) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
+// A reference is judged by what its header records: one path-traced from another sensor or another scene (other
+// files, other -D parameters) is refused by every command that measures against it; a resumed run's evaluations
+// keep their sensor; one holding less than the whole transport gets a warning.
+TEST_F(HabitsCli, AReferenceOfAnotherViewOrSceneIsRefused) {
+  const std::string scene = two_sensor_box(dir).string(), other = (dir / "other.exr").string(),
+                    sensor1 = (dir / "sensor1.exr").string(), edited = (dir / "edited.exr").string(),
+                    shallow = (dir / "shallow.exr").string(), run = (dir / "run").string();
+  ASSERT_EQ(run_cli("reference " + scene + " --sensor 1 --spp 1 --width 24 --height 16 -o " + sensor1).exit_code, 0);
+  // The first sensor's film is square: a square reference of the first sensor with other -D parameters.
+  ASSERT_EQ(run_cli("reference " + scene + " --spp 1 -D res=16 -o " + edited).exit_code, 0);
+  ASSERT_EQ(run_cli("reference " + kBox + " --spp 1 --width 16 --height 16 -o " + other).exit_code, 0);
+  ASSERT_EQ(run_cli("reference " + scene + " --spp 1 --width 16 --height 16 --max-depth 2 -o " + shallow).exit_code,
+            0);
+  const std::string train = "train " + scene + " --steps 2 --config " + config + " ";
+  const std::pair<std::string, std::string> refused[] = {
+      // sensor 1's image against sensor 0 (it has another aspect; a 3:2 sensor 0 would be the same case)
+      {train + "--sensor 0 -D res=24 --reference " + sensor1 + " -o " + run, "another scene"},
+      {train + "--reference " + edited + " -o " + run, "another scene"},
+      {train + "--reference " + other + " -o " + run, "another scene"},
+      {"render " + scene + " --model " + run + " --spp 1 --width 16 --height 16 --reference " + other + " -o " +
+           (dir / "r.exr").string(),
+       "another scene"}};
+  ASSERT_EQ(run_cli(train + "-o " + run).exit_code, 0);
+  for (const auto& [command, why] : refused) {
+    const auto r = run_cli(command);
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.err;
+    EXPECT_THAT(r.err, HasSubstr(why)) << command;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  // The sensor itself: a reference of sensor 1 used where sensor 0 is rendered at the same size.
+  const std::string square1 = (dir / "square1.exr").string();
+  ASSERT_EQ(run_cli("reference " + scene + " --sensor 1 --spp 1 --width 16 --height 16 -o " + square1).exit_code, 0);
+  auto r = run_cli("render " + scene + " --model " + run + " --spp 1 --width 16 --height 16 --reference " + square1 +
+                   " -o " + (dir / "r.exr").string());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("rendered from sensor 1, this command's is 0"));
+  // A resumed run measures through the sensor its columns were measured through.
+  const std::string evaluated = (dir / "evaluated").string();
+  ASSERT_EQ(run_cli(train + "--sensor 1 --reference " + sensor1 + " -o " + evaluated).exit_code, 0);
+  r = run_cli("train " + scene + " --resume --steps 4 --sensor 0 --reference " + sensor1 + " -o " + evaluated);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  // A depth-limited reference is measured against, with one warning line.
+  r = run_cli(train + "--reference " + shallow + " -o " + (dir / "shallow").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("warning: --reference " + shallow + ": it holds paths of at most 2 segments"));
+}
+
 // -q/--quiet, pbrt's: no progress or informational lines on stderr; results on stdout and errors stay.
 TEST_F(HabitsCli, QuietLeavesResultsAndErrors) {
   const std::string reference = "reference " + kBox + " --spp 1 --width 4 --height 4 -o " + (dir / "q.exr").string();
