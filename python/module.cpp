@@ -67,8 +67,9 @@ image::Image from_buffer(const py::buffer& buffer, const char* what) {
 // A loaded scene: its files read once, its geometry built on first use and shared by later calls.
 class Scene {
  public:
-  Scene(std::string path, std::map<std::string, std::string> parameters, int sensor)
-      : path_(std::move(path)),
+  // The path made absolute: what a run records of its scene must still name it after the program changes folder.
+  Scene(const std::string& path, std::map<std::string, std::string> parameters, int sensor)
+      : path_(path.empty() ? path : std::filesystem::absolute(path).lexically_normal().string()),
         parameters_(std::move(parameters)),
         sensor_(sensor),
         scene_(std::make_unique<scene::Scene>(scene::load_scene(path_, parameters_, sensor))) {}
@@ -280,6 +281,7 @@ PYBIND11_MODULE(_clradiosity, m) {
         request.scene = scene.path();
         request.parameters = scene.parameters();
         request.sensor = scene.sensor();
+        request.loaded = &scene.scene();
         request.run_dir = run_dir;
         request.device = device;
         request.preset = preset;

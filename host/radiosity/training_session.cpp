@@ -7,6 +7,7 @@
 #include <map>
 #include <new>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "cl/context.hpp"
 #include "common/atomic_file.hpp"
@@ -132,7 +133,11 @@ TrainOutcome train(const TrainRequest& request) {
   if (config.steps == 0 && config.minutes == 0 && opt.preset.empty())
     throw InputError("give a budget: --steps S or --minutes T (or a --preset)");
 
-  const auto scene = scene::load_scene(opt.scene, opt.parameters, opt.sensor);
+  // A scene loaded already (Python's Scene) trains as it was loaded: its file re-read by a relative path after a
+  // chdir, or after an edit, would be another scene.
+  std::optional<scene::Scene> read;
+  const scene::Scene& scene =
+      opt.loaded ? *opt.loaded : read.emplace(scene::load_scene(opt.scene, opt.parameters, opt.sensor));
   const auto& ranks = distributed::Communicator::world();
   ranks.require_same("the scenes (the contents of their files)",
                      Digest().add(scene::fingerprint(scene).digest).value());

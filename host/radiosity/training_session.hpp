@@ -23,6 +23,9 @@ struct TrainRequest {
   std::string scene;                              // the scene file
   std::map<std::string, std::string> parameters;  // the scene's $parameters (-D)
   int sensor = 0;                                 // the sensor evaluations and previews render (--sensor)
+  // The scene as loaded already (Python's Scene, whose path, parameters and sensor are the fields above): trained
+  // as it is, not read again. Null: read from `scene`.
+  const scene::Scene* loaded = nullptr;
   std::string run_dir, device, preset, config_file;
   nlohmann::json config;  // settings given inline, as a config file holds them (null: none)
   bool resume = false, other_scene = false;

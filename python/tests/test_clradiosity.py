@@ -189,6 +189,27 @@ def test_a_scene_sensor_is_chosen_by_index(tmp_path):
         cr.load_scene(scene, sensor=2)
 
 
+def test_a_loaded_scene_trains_as_loaded_after_chdir_or_edit(tmp_path, monkeypatch):
+    # A scene loaded by a relative path, then the folder changed and the file edited: train() trains the scene the
+    # Scene object holds, and the run records it by its absolute path.
+    folder = tmp_path / "scene"
+    folder.mkdir()
+    (folder / "box.xml").write_text(BOX.read_text())
+    for mesh in BOX.parent.iterdir():
+        if mesh.is_dir():
+            (folder / mesh.name).symlink_to(mesh)
+    monkeypatch.chdir(folder)
+    scene = cr.load_scene("box.xml", res=16)
+    assert Path(scene.path).is_absolute() and Path(scene.path) == folder / "box.xml"
+    monkeypatch.chdir(tmp_path)
+    (folder / "box.xml").write_text(BOX.read_text().replace("</scene>", "<!-- edited -->\n</scene>"))
+    run = cr.train(scene, tmp_path / "run", steps=2, config=SMALL, method="nr")
+    record = json.loads((tmp_path / "run" / "scene.json").read_text())
+    assert record["scene"] == str(folder / "box.xml")
+    assert record["digest"] == scene.digest, "the run is of the scene as loaded, not of the edited file"
+    assert run.steps == 2
+
+
 def test_reference_takes_the_scene_sampler_or_names_it(tmp_path):
     with pytest.raises(ValueError, match="sample_count"):
         cr.reference(cr.load_scene(BOX, res=8))
