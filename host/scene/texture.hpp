@@ -23,6 +23,7 @@ struct Bitmap {
   std::vector<Rgb> texels;
   Rgb mean{0.0f};
   Rgb minimum{0.0f};  // per channel over the texels
+  Rgb maximum{0.0f};
 
   // png/jpg/bmp (8-bit; sRGB-decoded unless `raw`, or decoded as value^gamma when `gamma` > 0, Mitsuba 0.x's
   // override) or exr/hdr (linear). InputError naming the file on failure.
@@ -82,6 +83,9 @@ class Texture {
   // values checked where a shape reads them): light and reflectance must be non-negative at every texel, not
   // only on average.
   Rgb minimum() const;
+  // The largest, per channel: a parameter with an upper bound (a principled roughness) is checked against it.
+  // A mesh attribute's is unknown here (+infinity): its values are clamped where they are read.
+  Rgb maximum() const;
   // A mesh_attribute's attribute name and the texture's id; empty for the other kinds.
   const std::string& attribute() const { return attribute_; }
   const std::string& id() const { return id_; }

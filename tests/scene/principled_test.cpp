@@ -161,6 +161,52 @@ TEST_F(Principled, RefusesWhatItDoesNotModelByName) {
   EXPECT_EQ(refused(R"(<bsdf type="principled"><float name="spec_trans" value="0"/></bsdf>)"), "accepted");
 }
 
+// Every value has its range, for a number and for a texture's texels alike (Burley's parameters in [0, 1],
+// principledthin's diff_trans in [0, 2]): outside it the scene is refused naming the value, never clamped — a
+// roughness of 1e5 made the image ~1e7 too bright as a number and a clamped 1000 as a texture.
+TEST_F(Principled, EveryValueHasItsRangeAsANumberAndAsTexels) {
+  const auto refused = [&](const std::string& bsdf) -> std::string {
+    try {
+      scene::load_scene(scene("<shape type=\"rectangle\">" + bsdf + "</shape>"));
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  struct Range {
+    const char* bsdf;
+    const char* name;
+    const char* bound;  // as the message writes it
+    float outside;
+  };
+  const Range ranges[] = {
+      {"principled", "roughness", "[0, 1]", 1e5f},       {"principled", "roughness", "[0, 1]", -0.1f},
+      {"principled", "sheen", "[0, 1]", 2.0f},           {"principled", "clearcoat", "[0, 1]", 5.0f},
+      {"principled", "metallic", "[0, 1]", 1.5f},        {"principled", "anisotropic", "[0, 1]", 2.0f},
+      {"principled", "clearcoat_gloss", "[0, 1]", 3.0f}, {"principled", "flatness", "[0, 1]", -1.0f},
+      {"principledthin", "roughness", "[0, 1]", 1.5f},   {"principledthin", "sheen", "[0, 1]", 4.0f},
+      {"principledthin", "diff_trans", "[0, 2]", 2.5f},  {"principledthin", "sheen_tint", "[0, 1]", 7.0f}};
+  for (const Range& r : ranges) {
+    const std::string open = std::string("<bsdf type=\"") + r.bsdf + "\">", value = std::to_string(r.outside);
+    const std::string number = open + "<float name=\"" + r.name + "\" value=\"" + value + "\"/></bsdf>";
+    const std::string texels = open + "<texture name=\"" + r.name +
+                               "\" type=\"checkerboard\"><float name=\"color0\" value=\"0.5\"/><float name=\"color1\" "
+                               "value=\"" +
+                               value + "\"/></texture></bsdf>";
+    const std::string constant_texture = open + "<texture name=\"" + r.name +
+                                         "\" type=\"rawconstant\"><float name=\"value\" value=\"" + value +
+                                         "\"/></texture></bsdf>";
+    for (const std::string& xml : {number, texels, constant_texture}) {
+      const std::string why = refused(xml);
+      EXPECT_THAT(why, ::testing::HasSubstr(std::string(r.name) + " must lie in " + r.bound)) << xml;
+    }
+  }
+  EXPECT_EQ(refused(R"(<bsdf type="principled"><float name="roughness" value="1"/><float name="sheen" value="0"/>
+                       <float name="clearcoat" value="1"/></bsdf>)"),
+            "accepted")
+      << "the bounds themselves are in range";
+}
+
 // Every value Mitsuba 3.9.1 takes as a texture (principled: all but eta and specular; principledthin: all, eta
 // included) is read at the point: on each cell of a checkerboard the BSDF evaluates, weighs and samples exactly as
 // the same BSDF with that cell's value as a constant.

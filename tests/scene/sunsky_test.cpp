@@ -175,6 +175,11 @@ TEST_F(SunSkyTest, TheLoaderPlacesTheSunAndRefusesWhatMitsubaRefuses) {
            {R"(<float name="turbidity" value="0.5"/>)", "turbidity"},
            {R"(<rgb name="albedo" value="1.2, 0.3, 0.3"/>)", "albedo"},
            {R"(<float name="sun_aperture" value="0"/>)", "sun_aperture"},
+           {R"(<float name="sun_aperture" value="90"/>)", "sun_aperture must lie in (0, 90)"},
+           // A disc too small, or a scale too large, for its radiance to be a float: the sun would vanish.
+           {R"(<float name="sun_aperture" value="1e-20"/>)", "sun_aperture"},
+           {R"(<float name="sun_scale" value="1e38"/>)", "sun_scale"},
+           {R"(<float name="sky_scale" value="1e38"/>)", "sky_scale"},
            {R"(<float name="sky_scale" value="-1"/>)", "sky_scale"},
            {R"(<integer name="month" value="13"/>)", "month"},
            {R"(<vector name="sun_direction" x="0" y="0" z="0"/>)", "zero"},

@@ -7,6 +7,19 @@
 
 namespace clr::scene::loader {
 
+void require_in_range(const Props& p, const char* name, float lo, float hi, float smallest, float largest) {
+  if (smallest >= lo && largest <= hi) return;
+  const auto text = [](float v) {
+    char s[32];
+    std::snprintf(s, sizeof s, "%g", double(v));
+    return std::string(s);
+  };
+  const std::string got =
+      smallest == largest ? text(smallest) : "values from " + text(smallest) + " to " + text(largest);
+  p.expect(name, {"float", "texture", "ref"})
+      .fail(std::string(name) + " must lie in [" + text(lo) + ", " + text(hi) + "], got " + got);
+}
+
 float read_ior(const Props& p, const std::string& name, float fallback) {
   const Node* n = p.find(name);
   if (!n) return fallback;

@@ -137,12 +137,12 @@ std::shared_ptr<const Bsdf> read_principledthin(Context& ctx, const Props& p) {
     read_value(ctx, p, name, member, lo, hi, q.values, q.textured);
   };
   q.base_color = ctx.texture(p, "base_color", Rgb(0.5f));
-  value("roughness", &V::roughness, 0.0f, kNoUpperBound);
+  value("roughness", &V::roughness, 0.0f, 1.0f);
   value("anisotropic", &V::anisotropic);
   value("spec_trans", &V::spec_trans);
   value("diff_trans", &V::diff_trans, 0.0f, 2.0f);
   value("spec_tint", &V::spec_tint);
-  value("sheen", &V::sheen, 0.0f, kNoUpperBound);
+  value("sheen", &V::sheen, 0.0f, 1.0f);
   value("sheen_tint", &V::sheen_tint);
   value("flatness", &V::flatness);
   value("eta", &V::eta, 1e-3f, kNoUpperBound);
@@ -150,14 +150,6 @@ std::shared_ptr<const Bsdf> read_principledthin(Context& ctx, const Props& p) {
   q.specular_trans_rate = p.number("specular_transmittance_sampling_rate", 1.0f);
   q.diffuse_reflect_rate = p.number("diffuse_reflectance_sampling_rate", 1.0f);
   q.diffuse_trans_rate = p.number("diffuse_transmittance_sampling_rate", 1.0f);
-  const V& v = q.values;
-  if (!(v.eta > 0)) p.expect("eta", {"float"}).fail("eta must be positive");
-  if (!(v.spec_trans >= 0 && v.spec_trans <= 1))
-    p.expect("spec_trans", {"float"}).fail("spec_trans must lie in [0, 1]");
-  if (!(v.diff_trans >= 0 && v.diff_trans <= 2))
-    p.expect("diff_trans", {"float"}).fail("diff_trans must lie in [0, 2]");
-  if (!(v.roughness >= 0 && v.anisotropic >= 0 && v.anisotropic <= 1))
-    p.node.fail("roughness must be non-negative and anisotropic within [0, 1]");
   for (const float rate :
        {q.specular_reflect_rate, q.specular_trans_rate, q.diffuse_reflect_rate, q.diffuse_trans_rate})
     if (!(rate >= 0)) p.node.fail("sampling rates must be non-negative");

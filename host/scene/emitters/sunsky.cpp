@@ -1,7 +1,9 @@
 // Mitsuba 3's `sunsky` emitter: the Hosek–Wilkie sky and sun (scene/sunsky.hpp), placed by `sun_direction` (world
 // space) or by a place and local time, with Mitsuba's defaults (Tokyo, 2010-07-10 15:00).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "common/terminal_text.hpp"
 #include "scene/loader/plugin.hpp"
@@ -40,14 +42,37 @@ EmitterPlugin read_sunsky(Context&, const Props& p) {
   s.sky_scale = p.number("sky_scale", 1.0f);
   require_non_negative(p, "sky_scale", Rgb(s.sky_scale));
   s.sun_aperture_deg = p.number("sun_aperture", s.sun_aperture_deg);
-  if (!(s.sun_aperture_deg > 0 && s.sun_aperture_deg < 180))
-    p.expect("sun_aperture", {"float"}).fail("sun_aperture must lie in (0, 180) degrees");
+  if (!(s.sun_aperture_deg > 0 && s.sun_aperture_deg < 90))
+    p.expect("sun_aperture", {"float"}).fail("sun_aperture must lie in (0, 90) degrees (Mitsuba's range)");
   s.complex_sun = p.boolean("complex_sun", false);
   if (s.sun.z < 0)
     std::fprintf(stderr, "%s: warning: the sun is below the horizon: sky and sun are black (as in Mitsuba)\n",
                  terminal_safe(p.node.where()).c_str());
+  SunSky model(s);
+  // The sun's power spread over its disc: a disc too small (or a scale too large) leaves a radiance no float holds,
+  // and the sun would vanish from the image with its non-finite samples. Bounded well inside float, so that the
+  // products of a path (radiance × BSDF / density) stay finite too; so is the sky.
+  constexpr float kLargestRadiance = 1e30f;
+  const auto representable = [&](const Rgb& radiance) {
+    return std::isfinite(radiance.x + radiance.y + radiance.z) &&
+           std::max({radiance.x, radiance.y, radiance.z}) <= kLargestRadiance;
+  };
+  const auto g = [](float v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", double(v));
+    return std::string(text);
+  };
+  if (!representable(model.sun_radiance()))
+    p.expect(s.sun_scale > 1 ? "sun_scale" : "sun_aperture", {"float"})
+        .fail("sun_scale " + g(s.sun_scale) + " over a sun_aperture of " + g(s.sun_aperture_deg) +
+              " degrees gives the sun a radiance beyond 1e30, which a float "
+              "render cannot carry: widen the aperture or lower the scale");
+  if (!representable(model.sky(Vec3(0, 0, 1))) || !representable(model.sky(s.sun)))
+    p.expect("sky_scale", {"float"})
+        .fail("sky_scale " + g(s.sky_scale) +
+              " gives the sky a radiance beyond 1e30, which a float render cannot carry");
   EmitterPlugin e;
-  e.environment = std::make_unique<Environment>(Environment::sunsky(SunSky(s), to_world));
+  e.environment = std::make_unique<Environment>(Environment::sunsky(std::move(model), to_world));
   return e;
 }
 }  // namespace clr::scene::loader

@@ -49,6 +49,7 @@ std::shared_ptr<const Bitmap> Bitmap::load(const std::filesystem::path& path, bo
   bmp->texels.resize(std::size_t(img.width) * std::size_t(img.height));
   glm::dvec3 sum(0.0);
   bmp->minimum = Rgb(std::numeric_limits<float>::infinity());
+  bmp->maximum = Rgb(-std::numeric_limits<float>::infinity());
   for (std::size_t i = 0; i < bmp->texels.size(); ++i) {
     bmp->texels[i] = Rgb(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]);
     // An EXR may hold NaN or infinities; as a reflectance they would poison every path that touches them.
@@ -56,6 +57,7 @@ std::shared_ptr<const Bitmap> Bitmap::load(const std::filesystem::path& path, bo
       throw InputError(path.string() + ": texture has non-finite texels");
     sum += glm::dvec3(bmp->texels[i]);
     bmp->minimum = glm::min(bmp->minimum, bmp->texels[i]);
+    bmp->maximum = glm::max(bmp->maximum, bmp->texels[i]);
   }
   if (bmp->texels.empty()) throw InputError(path.string() + ": empty texture");
   bmp->mean = Rgb(sum / double(bmp->texels.size()));
@@ -136,6 +138,20 @@ Rgb Texture::mean() const {
       return 0.5f * (c0_ + c1_);
     case Kind::mesh_attribute:
       return 0.5f * c0_;
+  }
+  return c0_;
+}
+
+Rgb Texture::maximum() const {
+  switch (kind_) {
+    case Kind::constant:
+      return c0_;
+    case Kind::bitmap:
+      return bitmap_->maximum;
+    case Kind::checkerboard:
+      return glm::max(c0_, c1_);
+    case Kind::mesh_attribute:
+      return Rgb(std::numeric_limits<float>::infinity());
   }
   return c0_;
 }
