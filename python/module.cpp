@@ -289,14 +289,16 @@ PYBIND11_MODULE(_clradiosity, m) {
         if (!config_json.empty()) request.config = nlohmann::json::parse(config_json);
         request.resume = resume;
         request.evaluation.reference = reference;
-        if (eval_every > 0) request.evaluation.every = eval_every;
-        if (eval_spp > 0) request.evaluation.spp = eval_spp;
+        const auto flagged = [&given](const char* flag) {
+          return std::find(given.begin(), given.end(), flag) != given.end();
+        };
+        // Given values go through as given: radiosity::train judges them, as it does the CLI's.
+        if (flagged("--eval-every")) request.evaluation.every = eval_every;
+        if (flagged("--eval-spp")) request.evaluation.spp = eval_spp;
         if (!eval_mode.empty()) request.evaluation.mode = render_mode(eval_mode, "eval_mode");
         request.preview = preview;
         request.preview_every = preview_every;
-        request.given = [given](const char* flag) {
-          return std::find(given.begin(), given.end(), flag) != given.end();
-        };
+        request.given = flagged;
         // The settings patch is Python (keyword arguments over the config): applied with the GIL, as JSON.
         request.settings = [&settings](radiosity::TrainConfig& config) {
           if (!settings) return;

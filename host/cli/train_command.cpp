@@ -81,11 +81,10 @@ Command add_train_command(CLI::App& app) {
   cmd->add_option("--eval-every", opt->evaluation.every,
                   "Steps between evaluations against --reference (default: the checkpoint interval; the last "
                   "step is evaluated too)")
-      ->check(integer_at_least(1))
       ->needs(reference_option);
   cmd->add_option("--eval-spp", opt->evaluation.spp,
-                  "Camera rays per pixel of an evaluation (default 4, as `render`; a resumed run keeps its own)")
-      ->check(CLI::Range(1, 1 << 16))
+                  "Camera rays per pixel of an evaluation (default 4, as `render`; a resumed run keeps its own; at "
+                  "most 65536)")
       ->needs(reference_option);
   cmd->add_option("--eval-mode", opt->evaluation.mode,
                   "The evaluated image, as `render --mode`: lhs (default) or rhs (a resumed run keeps its own)")
@@ -97,7 +96,6 @@ Command add_train_command(CLI::App& app) {
                                              " pixels) up to date, every --preview-every steps and at the end");
   cmd->add_option("--preview-every", opt->preview_every,
                   "Steps between previews (default: --eval-every's, else the checkpoint interval)")
-      ->check(integer_at_least(1))
       ->needs(preview_option);
   add_device_option(*cmd, opt->device);
   add_scene_parameters_option(*cmd, opt->parameters);

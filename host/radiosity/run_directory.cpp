@@ -16,6 +16,7 @@
 #include "common/error.hpp"
 #include "common/input_file.hpp"
 #include "nn/checkpoint.hpp"
+#include "radiosity/guide/i_module.hpp"
 #include "radiosity/trained_model.hpp"
 
 namespace clr::radiosity {
@@ -312,6 +313,7 @@ std::unique_ptr<nn::Network> RunDirectory::load_guide(cl::Context& ctx, const fs
   nn::NetworkConfig guide_config;
   try {
     guide_config = nn::network_config_from_json(config.at("guide"));
+    require_guide_network(guide_config);
   } catch (const InputError& e) {
     throw InputError(file.string() + ": guide: " + e.what());
   }

@@ -19,12 +19,18 @@ void require_tensors(const nn::Checkpoint& c, const std::string& path, const nn:
 
 }  // namespace
 
+void require_radiance_network(const nn::NetworkConfig& config) {
+  if (config.outputs != 3)
+    throw InputError("network.outputs must be 3 (the N-Module's RGB radiance), got " + std::to_string(config.outputs));
+}
+
 std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesystem::path& checkpoint) {
   const nn::Checkpoint c = nn::read_checkpoint(checkpoint.string());
   const nlohmann::json config = parse_json(c.config_json, "the network config of checkpoint " + checkpoint.string());
   nn::NetworkConfig network_config;
   try {
     network_config = nn::network_config_from_json(config);
+    require_radiance_network(network_config);
     require_tensors(c, checkpoint.string(), network_config, "");
   } catch (const InputError& e) {
     const std::string what = e.what(), prefix = "checkpoint " + checkpoint.string();

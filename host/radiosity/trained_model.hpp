@@ -8,6 +8,11 @@
 
 namespace clr::radiosity {
 
+// The N-Module's shape, which its users assume: 3 outputs (RGB radiance). InputError naming the setting otherwise;
+// checked where one is made (network settings) and where one is read (a checkpoint), so that neither can reach the
+// device with another shape.
+void require_radiance_network(const nn::NetworkConfig& config);
+
 // Builds the network the checkpoint was written for and loads its parameters (InputError when the file is
 // missing, damaged or of another version).
 std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesystem::path& checkpoint);

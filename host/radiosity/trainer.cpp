@@ -56,7 +56,9 @@ nn::NetworkConfig radiance_network_config(const geometry::Geometry& geometry, co
   base.encoder.albedo = in.albedo_varies;
   base.output_scale = radiance_scale(geometry.scene());
   base.seed = config.seed;
-  return nn::merge_patch(base, config.network);
+  const nn::NetworkConfig merged = nn::merge_patch(base, config.network);
+  require_radiance_network(merged);
+  return merged;
 }
 
 Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConfig config, fs::path run_dir,

@@ -74,6 +74,18 @@ class SideOutputs {
   std::size_t failures_ = 0;
 };
 
+// What watches the run, given explicitly (by flag or keyword): the one check of each, for the CLI and Python alike.
+void require_watch_settings(const TrainRequest& opt, const std::function<bool(const char*)>& given) {
+  const auto at_least_one = [&](const char* flag, long value) {
+    if (given(flag) && value < 1) throw InputError(std::string(flag) + " must be at least 1, got " + std::to_string(value));
+  };
+  at_least_one("--eval-every", opt.evaluation.every);
+  at_least_one("--preview-every", opt.preview_every);
+  if (given("--eval-spp") && (opt.evaluation.spp < 1 || opt.evaluation.spp > kMaxEvaluationSpp))
+    throw InputError("--eval-spp must lie in [1, " + std::to_string(kMaxEvaluationSpp) + "], got " +
+                     std::to_string(opt.evaluation.spp));
+}
+
 void require_same_settings(const radiosity::TrainConfig& given, const radiosity::TrainConfig& saved,
                            const std::function<bool(const char*)>& flag_given) {
   const nlohmann::json g = given, s = saved;
@@ -124,6 +136,7 @@ TrainOutcome train(const TrainRequest& request) {
     config.validate();
   };
   apply_flags();
+  require_watch_settings(opt, given);
   if (opt.resume) {
     if (!opt.config_file.empty() || !opt.config.is_null())
       throw InputError("--config with --resume: a resumed run's settings are its own config.json");

@@ -19,6 +19,9 @@ namespace clr::radiosity {
 
 class Trainer;
 
+// The most camera rays per pixel an evaluation takes (--eval-spp).
+inline constexpr int kMaxEvaluationSpp = 1 << 16;
+
 struct TrainRequest {
   std::string scene;                              // the scene file
   std::map<std::string, std::string> parameters;  // the scene's $parameters (-D)

@@ -16,6 +16,8 @@ training at its next step with a checkpoint (``resume=True`` continues it) and t
 
 import csv
 import json
+import math
+import operator
 import os
 import warnings
 
@@ -84,6 +86,30 @@ _SETTINGS = {flag[2:].replace("-", "_"): (tuple(pointer.strip("/").split("/")), 
              for flag, pointer in _native.setting_flags()}
 
 
+def _integer(name, value):
+    """An integer setting as given: Python's and numpy's integers, not floats (2.5 steps is not a count)."""
+    if isinstance(value, bool):
+        raise ValueError(f"{name} must be an integer, got {value!r}")
+    try:
+        return operator.index(value)
+    except TypeError:
+        raise ValueError(f"{name} must be an integer, got {value!r}") from None
+
+
+def _plain(name, value):
+    """A setting as JSON takes it: numpy scalars as Python numbers; NaN and infinities refused by name (JSON has
+    none, and they are no setting's value)."""
+    if isinstance(value, dict):
+        return {k: _plain(f"{name}.{k}", v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(f"{name}[{i}]", v) for i, v in enumerate(value)]
+    if hasattr(value, "item") and not isinstance(value, (str, bytes)):
+        value = value.item()  # numpy scalars (and 0-d arrays)
+    if isinstance(value, float) and not math.isfinite(value):
+        raise ValueError(f"{name} must be a finite number, got {value}")
+    return value
+
+
 def train(scene, out, *, steps=None, minutes=None, method=None, config=None, preset=None, device=None, resume=False,
           reference=None, eval_every=None, eval_spp=None, eval_mode=None, preview=None, preview_every=None, callback=None,
           **settings):
@@ -103,7 +129,9 @@ def train(scene, out, *, steps=None, minutes=None, method=None, config=None, pre
     unknown = sorted(set(settings) - set(_SETTINGS))
     if unknown:
         raise TypeError("train() got unexpected keyword arguments: " + ", ".join(unknown))
-    given = {k: v for k, v in given.items() if v is not None}
+    given = {k: _plain(k, v) for k, v in given.items() if v is not None}
+    if "steps" in given:
+        given["steps"] = _integer("steps", given["steps"])
 
     def apply(patch):
         for key, value in given.items():
@@ -115,7 +143,7 @@ def train(scene, out, *, steps=None, minutes=None, method=None, config=None, pre
 
     config_file, config_json = "", ""
     if isinstance(config, dict):
-        config_json = json.dumps(config, allow_nan=False)
+        config_json = json.dumps(_plain("config", config), allow_nan=False)
     elif config is not None:
         config_file = os.fspath(config)
 
@@ -135,8 +163,10 @@ def train(scene, out, *, steps=None, minutes=None, method=None, config=None, pre
         flags.append("--preview-every")
     outcome = _native.train(scene, os.fspath(out), device or "", preset or "", config_file, config_json,
                             bool(resume), apply, flags, os.fspath(reference) if reference is not None else "",
-                            int(eval_every or 0), int(eval_spp or 0), str(eval_mode or ""),
-                            os.fspath(preview) if preview is not None else "", int(preview_every or 0),
+                            _integer("eval_every", eval_every) if eval_every is not None else 0,
+                            _integer("eval_spp", eval_spp) if eval_spp is not None else 0, str(eval_mode or ""),
+                            os.fspath(preview) if preview is not None else "",
+                            _integer("preview_every", preview_every) if preview_every is not None else 0,
                             report if callback is not None else None)
     if outcome["side_output_failures"]:
         # Each was reported on stderr as it happened; the model and its checkpoint are whole.

@@ -255,6 +255,31 @@ def test_settings_are_checked_as_the_cli_checks_them(box, tmp_path):
     assert not (tmp_path / "a").exists() and not (tmp_path / "c").exists()
 
 
+def test_every_setting_is_judged_once_whatever_its_python_type(box, tmp_path):
+    # The CLI's ranges, through the same checks: intervals below 1 and an evaluation spp past the CLI's limit are
+    # refused, not taken for "the default"; NaN is refused by the setting's name, not by a JSON parser; numpy's
+    # integers are integers and floats are not counts.
+    reference = tmp_path / "ref.exr"
+    cr.write_image(reference, np.ones((32, 32, 3), np.float32))
+    refused = [(dict(reference=reference, eval_every=0), "--eval-every"),
+               (dict(reference=reference, eval_every=-5), "--eval-every"),
+               (dict(reference=reference, eval_spp=70000), "--eval-spp"),
+               (dict(reference=reference, eval_every=2.5), "eval_every must be an integer"),
+               (dict(preview=tmp_path / "p.png", preview_every=0), "--preview-every"),
+               (dict(learning_rate=float("nan")), "learning_rate must be a finite number"),
+               (dict(config={"network": {"adam": {"epsilon": float("inf")}}}), "config.network.adam.epsilon"),
+               (dict(config={"network": {"outputs": 16}}), "network.outputs must be 3")]
+    for i, (kwargs, why) in enumerate(refused):
+        with pytest.raises(ValueError, match=why.replace(".", r"\.").replace("[", r"\[")):
+            cr.train(box, tmp_path / f"r{i}", steps=4, method="nr", **{"config": SMALL, **kwargs})
+        assert not (tmp_path / f"r{i}" / "model.clr").exists()
+    with pytest.raises(ValueError, match="steps must be an integer"):
+        cr.train(box, tmp_path / "float", steps=4.5, method="nr", config=SMALL)
+    run = cr.train(box, tmp_path / "numpy", steps=np.int64(4), samples=np.int32(2), learning_rate=np.float32(0.004),
+                   method="nr", config=SMALL, reference=reference, eval_every=np.int64(2), eval_spp=np.int16(1))
+    assert (run.steps, run.config["samples"]) == (4, 2)
+
+
 def test_isnr_with_settings_by_keyword(box, tmp_path):
     run = cr.train(box, tmp_path / "isnr", steps=6, config=SMALL, is_loss="kl", samples=2, bsdf_fraction=0.25,
                    learning_rate=0.002, seed=9)

@@ -209,5 +209,41 @@ TEST_F(TrainCli, BadInputExitsTwoWithOneLine) {
   EXPECT_FALSE(fs::exists(dir / "x.exr"));
 }
 
+// The modules' shapes are theirs: a config asking the N-Module for other than 3 outputs, or the I-Module for other
+// than its mixture's, is refused by name before any training, and so is a run whose config.json was edited so.
+TEST_F(TrainCli, NetworkShapesAreTheModulesOwn) {
+  const auto with = [&](const std::string& name, const nlohmann::json& patch) {
+    nlohmann::json small = nlohmann::json::parse(std::ifstream(config));
+    small.merge_patch(patch);
+    const fs::path file = dir / (name + ".json");
+    std::ofstream(file) << small.dump();
+    return file.string();
+  };
+  const std::pair<std::string, std::string> cases[] = {
+      {"--method nr --config " + with("n16", {{"network", {{"outputs", 16}}}}), "network.outputs must be 3"},
+      {"--method nr --config " + with("n1", {{"network", {{"outputs", 1}}}}), "network.outputs must be 3"},
+      {"--method isnr --config " + with("g16", {{"guide", {{"outputs", 16}}}}), "guide.outputs must be 32"}};
+  for (const auto& [args, why] : cases) {
+    const auto r = run_cli("train " + kBox + " --steps 2 " + args + " -o " + (dir / "shape").string());
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_THAT(r.err, HasSubstr(why)) << args;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    fs::remove_all(dir / "shape");
+  }
+  const fs::path run = dir / "isnr";
+  ASSERT_EQ(run_cli("train " + kBox + " --steps 2 --method isnr --config " + config + " -o " + run.string()).exit_code,
+            0);
+  nlohmann::json saved = nlohmann::json::parse(std::ifstream(run / "config.json"));
+  saved["guide"]["outputs"] = 16;
+  std::ofstream(run / "config.json") << saved.dump(2);
+  for (const std::string& command :
+       {"train " + kBox + " --resume --steps 4 -o " + run.string(),
+        "guide " + kBox + " --model " + run.string() + " --pixel 5,5 --resolution 8 -o " + (dir / "g.png").string()}) {
+    const auto r = run_cli(command);
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.err;
+    EXPECT_THAT(r.err, HasSubstr("guide.outputs must be 32")) << command;
+  }
+}
+
 }  // namespace
 }  // namespace clr::test

@@ -33,10 +33,14 @@ nn::NetworkConfig guide_network_config(const geometry::Geometry& geometry, const
   base.encoder.roughness = in.roughness_varies;
   base.seed = config.seed + 1;  // apart from the N-Module's initial parameters
   const nn::NetworkConfig c = nn::merge_patch(base, config.guide);
-  if (c.outputs != kVmfRaw)
-    throw InputError("guide.outputs must be " + std::to_string(kVmfRaw) + " (8 vMF lobes × 4), got " +
-                     std::to_string(c.outputs));
+  require_guide_network(c);
   return c;
+}
+
+void require_guide_network(const nn::NetworkConfig& config) {
+  if (config.outputs != kVmfRaw)
+    throw InputError("guide.outputs must be " + std::to_string(kVmfRaw) + " (8 vMF lobes × 4), got " +
+                     std::to_string(config.outputs));
 }
 
 }  // namespace clr::radiosity

@@ -19,6 +19,10 @@ nn::NetworkConfig i_module_config(const std::array<float, 3>& bbox_lo, const std
 
 // The I-Module for a scene: i_module_config over its bounding box, roughness only where it varies, and the user's
 // `guide` overrides (TrainConfig::guide, a JSON merge patch) on top.
+// The I-Module's shape, which the mixture kernels assume: kVmfRaw outputs (8 lobes × 4). InputError naming the
+// setting otherwise; checked where one is made and where a run's is read back.
+void require_guide_network(const nn::NetworkConfig& config);
+
 nn::NetworkConfig guide_network_config(const geometry::Geometry& geometry, const geometry::SurfaceSampler& sampler,
                                        const TrainConfig& config);
 
