@@ -1,5 +1,7 @@
 // clradiosity sweep SCENE.xml -o SWEEP_DIR [--reference REF.exr] [--minutes T1,T2,…] [--methods nr,isnr-kl,isnr-ikl]
 //                   [--samples 4,32] [--seeds K] [--width W --height H] [--spp S] [--config FILE.json] [--device D]
+#include <cstdio>
+
 #include "cli/command.hpp"
 #include "cli/data_files.hpp"
 #include "cli/number_checks.hpp"
@@ -58,6 +60,10 @@ Command add_sweep_command(CLI::App& app) {
   return {cmd, [opt]() {
             if (!opt->config_file.empty()) opt->sweep.base = radiosity::load_train_config(opt->config_file);
             opt->sweep.plot_script = plot_sweep_script();
+            if (opt->sweep.plot_script.empty())
+              std::fprintf(stderr,
+                           "sweep: no figures: plot_sweep.py is not beside this binary (install it with `cmake "
+                           "--install`); the tables are written as always\n");
             cl::Context ctx(cl::select_device(opt->device));
             sweep::run_sweep(ctx, opt->sweep);
             return 0;

@@ -91,5 +91,23 @@ TEST_F(InstallCli, AMovedPrefixRunsFromAnyFolder) {
   EXPECT_THAT(err, HasSubstr((moved / "share/clradiosity/scenes/cornell-box.xml").string()));
 }
 
+// A binary copied elsewhere without share/ beside it has no bundled data: the main job says where it looked,
+// rather than train the build machine's source-tree scene as if it were its own; a sweep draws no figures and says so.
+TEST_F(InstallCli, ABinaryCopiedWithoutItsDataSaysSo) {
+  const fs::path bare = dir / "bare" / "bin", elsewhere = dir / "elsewhere";
+  fs::create_directories(bare);
+  fs::create_directories(elsewhere);
+  fs::copy_file(CLR_CLI_PATH, bare / "clradiosity");
+  fs::permissions(bare / "clradiosity", fs::perms::owner_all, fs::perm_options::add);
+  std::string err;
+  EXPECT_EQ(run_in(elsewhere, bare / "clradiosity", "", &err), 2) << err;
+  EXPECT_THAT(err, HasSubstr("the bundled scenes are not beside this binary"));
+  EXPECT_THAT(err, HasSubstr((dir / "bare" / "share" / "clradiosity" / "scenes").string()));
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_FALSE(fs::exists(elsewhere / "clradiosity-out")) << "refused before any output";
+  // The binary where the build wrote it still reads the source tree's scenes (every CLI test relies on it).
+  EXPECT_EQ(run_in(elsewhere, CLR_CLI_PATH, "--version", &err), 0) << err;
+}
+
 }  // namespace
 }  // namespace clr::test
