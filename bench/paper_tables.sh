@@ -47,6 +47,11 @@ bin=${CLRADIOSITY:-$root/build/release/clradiosity}
   exit 2
 }
 tables=${TABLES:-1 2}
+for t in $tables; do case $t in 1 | 2) ;; *)
+  echo "paper_tables.sh: TABLES: '$t' is not 1 or 2" >&2
+  exit 2
+  ;;
+esac; done
 preset=${PRESET-paper}
 eval_every=${EVAL_EVERY:-1000}
 eval_spp=${EVAL_SPP:-4}
@@ -61,8 +66,25 @@ for s in "$@"; do is_scene "$s" || {
 mkdir -p "$out"/references "$out"/runs "$out"/path_tracer
 out=$(cd "$out" && pwd)
 
-# pyjson FILE EXPR: a value of a JSON file (python3's json: no other dependency).
-pyjson() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print($2)" "$1"; }
+# pyjson FILE [--default VALUE] KEY...: the value at KEY... of a JSON file (python3's json: no other dependency).
+# The keys are data, never code: a scene named with a quote (or crafted as Python) is only a key.
+pyjson() {
+  python3 -c '
+import json, sys
+args = sys.argv[1:]
+d = json.load(open(args.pop(0)))
+default = None
+if args[:1] == ["--default"]:
+    default, args = args[1], args[2:]
+try:
+    for k in args:
+        d = d[k]
+except (KeyError, IndexError, TypeError):
+    if default is None:
+        raise
+    d = default
+print(d)' "$@"
+}
 # The width and height of an EXR (its dataWindow), read with python3's struct.
 exr_size() {
   python3 - "$1" <<'PY'
@@ -113,20 +135,24 @@ for s in "$@"; do
     fi
   fi
   echo "== $name: evaluations at ${w}x${h}, $eval_spp spp, every $eval_every steps against $ref_note"
-  paper_name=$(pyjson "$paper_json" "d['scenes'].get('$name', '')")
+  paper_name=$(pyjson "$paper_json" --default "" scenes "$name")
   mkdir -p "$out/runs/$name"
-  printf '{"scene": "%s", "paper_scene": "%s", "reference": "%s", "width": %d, "height": %d, "eval_spp": %d, "preset": "%s"}\n' \
+  # Written by json.dumps: a scene path with a quote or a backslash stays one JSON string.
+  python3 -c 'import json, sys
+a = sys.argv[1:]
+print(json.dumps({"scene": a[0], "paper_scene": a[1], "reference": a[2], "width": int(a[3]), "height": int(a[4]),
+                  "eval_spp": int(a[5]), "preset": a[6]}))' \
     "$scene" "$paper_name" "$ref_note" "$w" "$h" "$eval_spp" "$preset" >"$out/runs/$name/scene.json"
 
   # run TABLE METHOD LOSS: one training, fresh or resumed, with its evaluations; its record beside it.
   run() {
     local table=$1 method=$2 loss=$3 samples steps key
-    samples=$(pyjson "$paper_json" "d['table$table']['samples']")
+    samples=$(pyjson "$paper_json" "table$table" samples)
     key=$([ "$method" = nr ] && echo nr || echo isnr)
     if [ -n "${STEPS:-}" ]; then
       steps=$STEPS
     elif [ -n "$paper_name" ]; then
-      steps=$(pyjson "$paper_json" "d['table$table']['rows']['$paper_name']['$key']['step']")
+      steps=$(pyjson "$paper_json" "table$table" rows "$paper_name" "$key" step)
     else
       steps=""  # the preset's budget
     fi
@@ -145,7 +171,7 @@ for s in "$@"; do
     fi
     if [ -f "$dir/model.clr" ]; then
       echo "== $name $label: resuming"
-      [ -n "$steps" ] || flags+=(--steps "$(pyjson "$dir/config.json" "d['steps']")")
+      [ -n "$steps" ] || flags+=(--steps "$(pyjson "$dir/config.json" steps)")
       "$bin" train "$scene" --resume "${flags[@]}" "${train_flags[@]}" -o "$dir" >"$dir.out" 2>"$dir.err" ||
         failed "$label" "$dir"
     else
@@ -163,7 +189,6 @@ for s in "$@"; do
     case $t in
       1) run 1 nr "" && run 1 isnr kl && run 1 isnr ikl ;;
       2) run 2 nr "" && run 2 isnr ikl ;;
-      *) echo "paper_tables.sh: TABLES: $t is not 1 or 2" >&2 && exit 2 ;;
     esac
   done
 
@@ -193,8 +218,8 @@ PY
       # "OUT: WxH, S spp, T s, …": the render's own time, without loading the scene.
       seconds=$(sed -n 's/.* spp, \([0-9.]*\) s, .*/\1/p' <<<"$line")
       metrics=$("$bin" compare "$image" "$ref" --json)
-      printf '%d,%s,%s,%s,%s\n' "$spp" "$seconds" "$(pyjson /dev/stdin "d['mape']" <<<"$metrics")" \
-        "$(pyjson /dev/stdin "d['mse']" <<<"$metrics")" "$(pyjson /dev/stdin "d['relmse']" <<<"$metrics")" >>"$points"
+      printf '%d,%s,%s,%s,%s\n' "$spp" "$seconds" "$(pyjson /dev/stdin mape <<<"$metrics")" \
+        "$(pyjson /dev/stdin mse <<<"$metrics")" "$(pyjson /dev/stdin relmse <<<"$metrics")" >>"$points"
     fi
     read -r seconds mape < <(awk -F, -v s="$spp" '$1 == s { print $2, $3 }' "$points")
     echo "== $name: path tracer $spp spp: ${seconds} s, MAPE $mape"

@@ -29,6 +29,7 @@ Command add_compare_command(CLI::App& app) {
             require_outputs({{opt->error_map, "--error-map"}}, {opt->image, opt->reference});
             const auto img = image::read_exr(opt->image);
             const auto ref = image::match_size(image::read_exr(opt->reference), img);
+            image::require_usable_reference(ref, opt->reference);
             const auto m = image::compare(img, ref);
             if (!opt->error_map.empty()) image::write_png(opt->error_map, image::error_map(img, ref));
             if (opt->json) {

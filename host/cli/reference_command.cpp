@@ -1,4 +1,6 @@
 // clradiosity reference SCENE.xml --spp N [--width W --height H] [--max-depth D] [--seed K] -o OUT.exr [--resume]
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -49,9 +51,14 @@ Earlier read_earlier(const std::string& path, const std::map<std::string, std::s
     e.spp = std::stoi(spp->second, &end);
     if (end != spp->second.size() || e.spp < 1) throw std::invalid_argument("spp");
     e.seconds = attributes.contains("renderTimeSeconds") ? std::stod(attributes["renderTimeSeconds"]) : 0.0;
+    if (!std::isfinite(e.seconds) || e.seconds < 0) throw std::invalid_argument("time");
   } catch (const std::logic_error&) {
     refuse("records no usable spp or time");
   }
+  // The mean the new passes are averaged with: a pixel that is not a finite radiance ≥ 0 was not made by a render
+  // (an edited file), and would poison or skew every pass it is averaged with.
+  if (!std::all_of(e.mean.rgb.begin(), e.mean.rgb.end(), [](float v) { return std::isfinite(v) && v >= 0; }))
+    refuse("holds pixels that are not finite radiances ≥ 0 (NaN, infinite or negative)");
   return e;
 }
 

@@ -140,6 +140,7 @@ int render_image(Options& opt, scene::Scene& scene) {
   if (!opt.reference.empty()) {
     std::map<std::string, std::string> attributes;
     reference = image::read_exr(opt.reference, &attributes);
+    image::require_usable_reference(*reference, "--reference " + opt.reference);
     // Recorded references of another scene or sensor are refused; a --camera view is no sensor's.
     if (const std::string warning =
             scene::check_reference_record(attributes, scene::fingerprint(scene).digest,

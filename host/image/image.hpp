@@ -66,6 +66,9 @@ struct Metrics {
   // image's), and counted.
   std::size_t reference_non_finite = 0;
 };
+// InputError "WHAT: it holds no finite value" for a reference with nothing to measure against (all NaN or
+// infinite): every consumer of a reference checks it before its work, and compare() once more.
+void require_usable_reference(const Image& ref, const std::string& what);
 // Over all pixels and channels; images must have equal size.
 Metrics compare(const Image& a, const Image& ref);
 // "MAPE …  MSE …  relMSE …", followed by the non-finite counts where there are any.

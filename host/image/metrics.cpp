@@ -46,9 +46,15 @@ Image match_size(const Image& ref, const Image& like) {
   return box_downsample(ref, ref.width / like.width);
 }
 
+void require_usable_reference(const Image& ref, const std::string& what) {
+  if (std::none_of(ref.rgb.begin(), ref.rgb.end(), [](float v) { return std::isfinite(v); }))
+    throw InputError(what + ": it holds no finite value (all NaN or infinite): nothing to measure against");
+}
+
 Metrics compare(const Image& a, const Image& ref) {
   if (a.width != ref.width || a.height != ref.height)
     throw InputError("cannot compare " + size_text(a) + " with " + size_text(ref));
+  require_usable_reference(ref, "the reference");
   Metrics m;
   double mape = 0, mse = 0, relmse = 0;
   std::size_t used = 0;

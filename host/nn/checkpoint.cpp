@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <stdexcept>
 
 #include "common/atomic_file.hpp"
@@ -134,8 +135,12 @@ Checkpoint read_checkpoint(const std::string& path) {
   c.step = r.get<std::uint64_t>("step");
   c.rng_state = r.get_str("rng state");
   const auto n = r.get<std::uint32_t>("tensor count");
+  std::set<std::string> names;
   for (std::uint32_t i = 0; i < n; ++i) {
     auto name = r.get_str("tensor name");
+    // One tensor per name: with two, which one a reader takes would depend on the reader (and an export would
+    // write both under one key).
+    if (!names.insert(name).second) r.fail("tensor '" + clip(name) + "' appears twice");
     const auto count = r.get<std::uint64_t>("tensor size");
     // Divided, not multiplied: count · 4 wraps around for a hostile count and would pass the check.
     if (count > std::uint64_t(r.end - r.p) / sizeof(float)) r.fail("truncated payload while reading tensor values");

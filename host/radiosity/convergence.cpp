@@ -50,6 +50,7 @@ image::Image read_evaluation_reference(const fs::path& file, const scene::Scene&
   } catch (const InputError& e) {
     throw InputError("--reference " + file.string() + ": " + e.what());
   }
+  image::require_usable_reference(reference, "--reference " + file.string());
   if (const std::string warning = scene::check_reference_record(attributes, scene::fingerprint(scene).digest, sensor,
                                                                 "--reference", file.string());
       !warning.empty())

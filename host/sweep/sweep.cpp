@@ -44,6 +44,7 @@ image::Image reference_image(const geometry::Geometry& geometry, const SweepOpti
     image::Image given;
     try {
       given = image::match_size(image::read_exr(o.reference, &attributes), like);
+      image::require_usable_reference(given, "--reference " + o.reference.string());
     } catch (const InputError& e) {
       throw InputError("--reference " + o.reference.string() + ": " + e.what());
     }

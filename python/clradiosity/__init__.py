@@ -190,7 +190,14 @@ class Run:
             raise ValueError("%s: no model.clr (not a run directory, or its training wrote no checkpoint)" % self.dir)
         if scene is None:
             record = self._json("scene.json")
-            scene = load_scene(record["scene"], **record.get("parameters", {}))
+            where = os.path.join(self.dir, "scene.json")
+            if not isinstance(record, dict) or not isinstance(record.get("scene"), str):
+                raise ValueError("%s: not a run's scene record (no 'scene' path)" % where)
+            parameters = record.get("parameters", {})
+            if not isinstance(parameters, dict) or not all(isinstance(v, str) for v in parameters.values()):
+                raise ValueError("%s: 'parameters' is not an object of strings" % where)
+            # The parameters as a mapping, not as keywords: `-D path=…` or `-D sensor=…` are scene parameters too.
+            scene = _native.Scene(record["scene"], dict(parameters), 0)
         self.scene = _scene(scene)
         self._device = device or ""
         self._model = None
@@ -211,8 +218,27 @@ class Run:
     @property
     def log(self):
         """log.csv's rows as dicts of floats (None where a column is empty, e.g. steps without an evaluation)."""
-        with open(os.path.join(self.dir, "log.csv"), newline="") as f:
-            return [{k: (float(v) if v != "" else None) for k, v in row.items()} for row in csv.DictReader(f)]
+        path = os.path.join(self.dir, "log.csv")
+        try:
+            with open(path, newline="") as f:
+                rows = list(csv.DictReader(f))
+        except (OSError, csv.Error, UnicodeDecodeError) as e:
+            raise ValueError("%s: %s" % (path, e)) from None
+
+        def number(line, column, text):
+            if text is None:
+                raise ValueError("%s:%d: the row has fewer cells than the header" % (path, line))
+            try:
+                return float(text) if text != "" else None
+            except ValueError:
+                raise ValueError("%s:%d: %s is not a number: %r" % (path, line, column, text[:40])) from None
+
+        out = []
+        for line, row in enumerate(rows, start=2):
+            if None in row:
+                raise ValueError("%s:%d: the row has more cells than the header" % (path, line))
+            out.append({k: number(line, k, v) for k, v in row.items()})
+        return out
 
     @property
     def model(self):

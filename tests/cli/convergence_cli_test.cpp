@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "image/image.hpp"
 #include "support/cli_run_dir.hpp"
 #include "support/run_cli.hpp"
 
@@ -221,6 +223,14 @@ TEST_F(ConvergenceCli, BadOptionsAreRefusedBeforeTraining) {
   const std::string wrong_shape = (dir / "wide.exr").string(), not_exr = (dir / "not.exr").string();
   ASSERT_EQ(run_cli("reference " + kBox + " --spp 1 --width 32 --height 16 -o " + wrong_shape).exit_code, 0);
   std::ofstream(not_exr) << "not an image";
+  // A reference with nothing to measure against: every value NaN (or infinite).
+  const std::string all_nan = (dir / "nan.exr").string();
+  {
+    image::Image nan_image(32, 32);
+    std::fill(nan_image.rgb.begin(), nan_image.rgb.end(), std::nanf(""));
+    nan_image.rgb[5] = INFINITY;
+    image::write_exr(all_nan, nan_image);
+  }
   const std::string x = (dir / "x").string(), train = "train " + kBox + " --steps 5 --config " + config + " ";
   const std::pair<std::string, std::string> cases[] = {
       {train + "--reference " + reference + " --eval-every 0 -o " + x, "--eval-every"},
@@ -232,6 +242,11 @@ TEST_F(ConvergenceCli, BadOptionsAreRefusedBeforeTraining) {
       {train + "--reference " + not_exr + " -o " + x, "not.exr"},
       {train + "--reference " + wrong_shape + " -o " + x, "wide.exr"},
       {train + "--preview " + kBox + " -o " + x, "--preview"},
+      {train + "--reference " + all_nan + " -o " + x, "holds no finite value"},
+      {train + "--reference " + reference + " --eval-spp 65537 -o " + x, "--eval-spp"},
+      {train + "--reference " + reference + " --preview " + (dir / "p.png").string() + " --preview-every -1 -o " + x,
+       "--preview-every"},
+      {"compare " + reference + " " + all_nan, "holds no finite value"},
   };
   for (const auto& [args, culprit] : cases) {
     const auto r = run_cli(args);

@@ -170,7 +170,20 @@ TEST_F(ExportCli, BadInputExitsTwoBeforeWriting) {
   std::ofstream(dir / "broken.clr") << "not a checkpoint";
   refused(run.string() + " -o " + (dir / "broken.clr" / "a.safetensors").string(), "a.safetensors");
   refused((dir / "broken.clr").string() + " -o " + (dir / "b.safetensors").string(), "broken.clr");
-  for (const char* name : {"model.pt", "a.safetensors", "b.safetensors"}) EXPECT_FALSE(fs::exists(dir / name)) << name;
+  // A checkpoint that names one tensor twice (its checksum intact): refused by every reader of checkpoints, export
+  // and render among them, as bad input.
+  nn::Checkpoint twice = nn::read_checkpoint((run / "model.clr").string());
+  twice.tensors.push_back(twice.tensors.front());
+  fs::create_directories(dir / "twice");
+  for (const char* file : {"config.json", "scene.json", "log.csv"}) fs::copy_file(run / file, dir / "twice" / file);
+  nn::write_checkpoint((dir / "twice" / "model.clr").string(), twice);
+  refused((dir / "twice").string() + " -o " + (dir / "c.safetensors").string(), "appears twice");
+  const auto r = run_cli("render " + kBox + " --model " + (dir / "twice").string() + " --width 8 --height 8 -o " +
+                         (dir / "c.exr").string());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("appears twice"));
+  for (const char* name : {"model.pt", "a.safetensors", "b.safetensors", "c.safetensors", "c.exr"})
+    EXPECT_FALSE(fs::exists(dir / name)) << name;
 }
 
 }  // namespace

@@ -9,9 +9,11 @@
 #include <signal.h>
 #include <sys/wait.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -222,8 +224,7 @@ TEST_F(HabitsCli, AReferenceOfAnotherViewOrSceneIsRefused) {
   // The first sensor's film is square: a square reference of the first sensor with other -D parameters.
   ASSERT_EQ(run_cli("reference " + scene + " --spp 1 -D res=16 -o " + edited).exit_code, 0);
   ASSERT_EQ(run_cli("reference " + kBox + " --spp 1 --width 16 --height 16 -o " + other).exit_code, 0);
-  ASSERT_EQ(run_cli("reference " + scene + " --spp 1 --width 16 --height 16 --max-depth 2 -o " + shallow).exit_code,
-            0);
+  ASSERT_EQ(run_cli("reference " + scene + " --spp 1 --width 16 --height 16 --max-depth 2 -o " + shallow).exit_code, 0);
   const std::string train = "train " + scene + " --steps 2 --config " + config + " ";
   const std::pair<std::string, std::string> refused[] = {
       // sensor 1's image against sensor 0 (it has another aspect; a 3:2 sensor 0 would be the same case)
@@ -345,6 +346,31 @@ TEST_F(HabitsCli, ReferenceKeepsItsPassesOnCtrlCAndResumes) {
   r = run_cli(base + "--spp 12 --resume -o " + model.string());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("is not an image of clradiosity reference")) << r.err;
+  // An image of the right render whose pixels or time were edited: a mean of NaN, negative or infinite radiance, or
+  // a render time that is none, is not continued.
+  {
+    std::map<std::string, std::string> attributes;
+    const image::Image kept = image::read_exr(part, &attributes);
+    attributes.erase("software");  // write_exr's own
+    const fs::path edited = dir / "edited.exr";
+    const auto refused = [&](image::Image img, const std::map<std::string, std::string>& header,
+                             const std::string& why) {
+      image::write_exr(edited, img, header);
+      const auto e = run_cli(base + "--spp 12 --resume -o " + edited.string());
+      EXPECT_EQ(e.exit_code, 2) << why << ": " << e.err;
+      EXPECT_THAT(e.err, HasSubstr(why));
+    };
+    for (const float bad : {std::nanf(""), -0.5f, INFINITY}) {
+      image::Image img = kept;
+      img.rgb[7] = bad;
+      refused(img, attributes, "not finite radiances");
+    }
+    for (const char* time : {"nan", "-3", "inf"}) {
+      auto header = attributes;
+      header["renderTimeSeconds"] = time;
+      refused(kept, header, "no usable spp or time");
+    }
+  }
 
   // Ctrl-C during a long render: the finished passes are written (a pass is ~2^22 samples, so wait longer each try
   // until one has ended), the file says how many samples it holds, and --resume continues from there.

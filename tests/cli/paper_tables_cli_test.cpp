@@ -2,10 +2,12 @@
 // columns, so a change to any of them that the script does not follow fails here rather than in an hours-long run.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "support/cli_run_dir.hpp"
@@ -64,6 +66,42 @@ TEST_F(PaperTablesCli, WritesTheTablesAndKeepsWhatItRan) {
   EXPECT_EQ(kept, 5u) << out;
   EXPECT_THAT(out, Not(HasSubstr("training")));
   EXPECT_THAT(out, Not(HasSubstr("reference 32x32"))) << "the reference is cached";
+}
+
+// The shell's single quotes around `text`, with its own quotes escaped.
+std::string shell_quoted(const std::string& text) {
+  std::string out = "'";
+  for (const char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// Names are data: a scene whose name holds a quote (once pasted into Python code, where a crafted one ran as code)
+// is tabled like any other; a bad TABLES is refused before any reference is rendered.
+TEST_F(PaperTablesCli, NamesAreDataAndBadTablesAreRefusedFirst) {
+  if (std::system("python3 -c 'import json' >/dev/null 2>&1") != 0) GTEST_SKIP() << "no python3";
+  const std::string script = std::string(CLR_SOURCE_DIR) + "/bench/paper_tables.sh";
+  const fs::path odd = dir / "scenes" / "it's'];open('pwned','w')#.xml";
+  fs::create_directories(odd.parent_path());
+  fs::copy_file(fs::path(CLR_SOURCE_DIR) / "scenes" / "cornell-box.xml", odd);
+  const auto run = [&](const std::string& tables, const fs::path& out) {
+    const std::string command = "cd " + shell_quoted(dir.string()) +
+                                " && env CLRADIOSITY=" + shell_quoted(CLR_CLI_PATH) +
+                                " STEPS=10 EVAL_EVERY=10 EVAL_LONG_SIDE=32 REF_SPP=16 TABLES=" + shell_quoted(tables) +
+                                " PRESET= TRAIN_FLAGS=" + shell_quoted("--config " + config) + " bash " +
+                                shell_quoted(script) + " " + shell_quoted(out.string()) + " " +
+                                shell_quoted(odd.string()) + " >" + shell_quoted((dir / "odd.log").string()) + " 2>&1";
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  EXPECT_EQ(run("1 3", dir / "bad"), 2) << text_of(dir / "odd.log");
+  EXPECT_THAT(text_of(dir / "odd.log"), HasSubstr("TABLES: '3' is not 1 or 2"));
+  EXPECT_FALSE(fs::exists(dir / "bad")) << "refused before any reference was rendered";
+  ASSERT_EQ(run("1", dir / "good"), 0) << text_of(dir / "odd.log");
+  EXPECT_FALSE(fs::exists(dir / "pwned")) << "a scene's name ran as Python code";
+  const std::string tables = text_of(dir / "good" / "tables.md");
+  EXPECT_THAT(tables, HasSubstr("| NR | 10 |")) << tables;
+  const auto record = nlohmann::json::parse(text_of(dir / "good" / "runs" / odd.stem().string() / "scene.json"));
+  EXPECT_EQ(record.at("scene").get<std::string>(), odd.string());
 }
 
 }  // namespace

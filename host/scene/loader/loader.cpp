@@ -10,6 +10,7 @@
 
 #include "common/digest.hpp"
 #include "common/error.hpp"
+#include "common/input_file.hpp"
 #include "common/terminal_text.hpp"
 #include "image/image.hpp"
 #include "scene/bsdfs.hpp"
@@ -62,7 +63,7 @@ class Loader final : public loader::Context {
 
  public:
   Loader(const std::map<std::string, std::string>& parameters, int sensor)
-      : params_(parameters), given_(parameters), sensor_(sensor) {}
+      : params_{parameters, {}}, given_(parameters), sensor_(sensor) {}
 
   Scene load(const std::filesystem::path& path) {
     scene_folder_ = path.parent_path();
@@ -71,9 +72,14 @@ class Loader final : public loader::Context {
       throw InputError("--sensor " + std::to_string(sensor_) + ": " + path.string() + " has " +
                        std::to_string(scene_.sensor_count) + " sensor" + (scene_.sensor_count == 1 ? "" : "s") +
                        (scene_.sensor_count > 1 ? " (0 to " + std::to_string(scene_.sensor_count - 1) + ")" : ""));
-    for (const auto& [name, value] : given_)
+    for (const auto& [name, value] : given_) {
+      // As Mitsuba 3 ("Found unused parameters"): a key the scene never substitutes is a typo, or another scene's.
+      if (!params_.used.contains(name))
+        throw InputError("-D " + clip(name) + "=" + clip(value) + ": " + path.string() + " never uses $" + clip(name) +
+                         " (as Mitsuba, a parameter the scene does not use is refused)");
       if (const auto d = defaults_.find(name); d == defaults_.end() || d->second != value)
         scene_.parameters[name] = value;
+    }
     if (scene_.materials.empty()) scene_.materials.push_back(default_bsdf());
     return std::move(scene_);
   }
@@ -273,7 +279,7 @@ class Loader final : public loader::Context {
       const std::string t = c.tag();
       if (c.has("id") && !built_.insert(c.xml.internal_object()).second) continue;  // built when referenced
       if (t == "default") {
-        params_.try_emplace(c.attr("name"), c.attr("value"));
+        params_.values.try_emplace(c.attr("name"), c.attr("value"));
         defaults_.try_emplace(c.attr("name"), c.attr("value"));
       } else if (t == "include") {
         const auto file = resolve(c, c.attr("filename"));
@@ -729,7 +735,7 @@ class Loader final : public loader::Context {
   }
 
   std::vector<std::unique_ptr<xml::Source>> sources_;
-  std::map<std::string, std::string> params_;
+  xml::Parameters params_;
   std::map<std::string, std::string> given_, defaults_;  // the caller's parameters; the files' <default>s
   std::filesystem::path scene_folder_;
   std::vector<std::filesystem::path> search_folders_;

@@ -89,8 +89,9 @@ std::string Node::attr(const char* attribute) const {
     std::size_t end = pos + 1;
     while (end < v.size() && (std::isalnum((unsigned char)v[end]) || v[end] == '_')) ++end;
     const std::string key = v.substr(pos + 1, end - pos - 1);
-    const auto it = parameters->find(key);
-    if (it == parameters->end()) fail("undefined parameter '$" + key + "'");
+    const auto it = parameters->values.find(key);
+    if (it == parameters->values.end()) fail("undefined parameter '$" + key + "'");
+    parameters->used.insert(key);
     v.replace(pos, end - pos, it->second);
     pos += it->second.size();
     if (v.size() > kMaxAttributeBytes)

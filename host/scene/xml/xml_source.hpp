@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <pugixml.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -22,11 +23,18 @@ struct Source {
   int line_of(std::ptrdiff_t offset) const;
 };
 
+// $name parameters (Mitsuba's <default>s and -D key=value), and the names a substitution has used: Mitsuba refuses
+// a given parameter that the scene never uses, and so do we.
+struct Parameters {
+  std::map<std::string, std::string> values;
+  mutable std::set<std::string> used;
+};
+
 // An element together with the file it came from, so that every message can say where it is.
 struct Node {
   pugi::xml_node xml;
   const Source* source;
-  const std::map<std::string, std::string>* parameters;  // for $name substitution
+  const Parameters* parameters;  // for $name substitution
 
   std::string tag() const { return xml.name(); }
   // "file:line: <tag name=".." type="..">"
