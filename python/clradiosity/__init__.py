@@ -250,7 +250,11 @@ class Run:
     def steps(self):
         """Steps trained so far (log.csv's last row)."""
         log = self.log
-        return int(log[-1]["step"]) if log else 0
+        if not log:
+            return 0
+        if log[-1].get("step") is None:
+            raise ValueError("%s: its last row has no step" % os.path.join(self.dir, "log.csv"))
+        return int(log[-1]["step"])
 
     def render(self, width=0, height=0, spp=4, seed=1, camera=None, scene=None, mode="lhs"):
         """The model's image (H, W, 3) float32, as `render`: ``mode`` "lhs", Le + L at the first non-delta hit of

@@ -210,6 +210,39 @@ def test_a_loaded_scene_trains_as_loaded_after_chdir_or_edit(tmp_path, monkeypat
     assert run.steps == 2
 
 
+def test_load_run_names_what_is_wrong_with_an_odd_folder(box, tmp_path):
+    run = cr.train(box, tmp_path / "run", steps=2, method="nr", config=SMALL)
+    record = (tmp_path / "run" / "scene.json").read_text()
+    for text, why in [("[]", "no 'scene' path"), ('{"scene": 5}', "no 'scene' path"),
+                      ('{"scene": "x.xml", "parameters": [1]}', "'parameters' is not an object"),
+                      ("{", "scene.json")]:
+        (tmp_path / "run" / "scene.json").write_text(text)
+        with pytest.raises(ValueError, match=why):
+            cr.load_run(tmp_path / "run")
+    (tmp_path / "run" / "scene.json").write_text(record)
+    log = (tmp_path / "run" / "log.csv").read_text()
+    for text, why in [(log + "3,abc\n", r"log\.csv:\d+: the row has fewer cells"),
+                      (log.replace("\n2,", "\nx,", 1), r"log\.csv:\d+: step is not a number"),
+                      ("seconds\n1\n", "no step")]:
+        (tmp_path / "run" / "log.csv").write_text(text)
+        with pytest.raises(ValueError, match=why):
+            cr.load_run(tmp_path / "run").steps
+    assert run.scene.digest == box.digest
+
+
+def test_a_cli_run_with_any_parameter_name_loads(tmp_path):
+    # -D path=… and -D sensor=… are scene parameters like any other: load_run passes them as such.
+    xml = BOX.read_text().replace('<default name="res"', '<default name="path" value="16"/><default name="res"', 1)
+    xml = xml.replace('value="$res"', 'value="$path"', 1)
+    assert "$path" in xml
+    (tmp_path / "box.xml").write_text(xml)
+    r = cli("train", tmp_path / "box.xml", "--steps", "2", "--method", "nr", "--batch", "256", "-D", "path=24",
+            "-o", tmp_path / "run")
+    assert r.returncode == 0, r.stderr
+    run = cr.load_run(tmp_path / "run")
+    assert run.scene.parameters == {"path": "24"} and run.steps == 2
+
+
 def test_reference_takes_the_scene_sampler_or_names_it(tmp_path):
     with pytest.raises(ValueError, match="sample_count"):
         cr.reference(cr.load_scene(BOX, res=8))
