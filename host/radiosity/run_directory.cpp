@@ -72,8 +72,8 @@ void add_missing_columns(const fs::path& log_file, const TrainConfig& config) {
     out += line + (shape == LogShape::Base ? ",,," : "") + ",";
     long step = -1;
     const auto [end, ec] = std::from_chars(line.data(), line.data() + line.size(), step);
-    out += (ec == std::errc() && end != line.data() + line.size() && *end == ',' ? samples_cell(config, step) : "") +
-           "\n";
+    out +=
+        (ec == std::errc() && end != line.data() + line.size() && *end == ',' ? samples_cell(config, step) : "") + "\n";
   }
   write_record_atomically(log_file, out, "run log");
 }

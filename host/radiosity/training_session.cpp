@@ -77,7 +77,8 @@ class SideOutputs {
 // What watches the run, given explicitly (by flag or keyword): the one check of each, for the CLI and Python alike.
 void require_watch_settings(const TrainRequest& opt, const std::function<bool(const char*)>& given) {
   const auto at_least_one = [&](const char* flag, long value) {
-    if (given(flag) && value < 1) throw InputError(std::string(flag) + " must be at least 1, got " + std::to_string(value));
+    if (given(flag) && value < 1)
+      throw InputError(std::string(flag) + " must be at least 1, got " + std::to_string(value));
   };
   at_least_one("--eval-every", opt.evaluation.every);
   at_least_one("--preview-every", opt.preview_every);

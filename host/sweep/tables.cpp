@@ -94,14 +94,15 @@ std::string tables_markdown(const std::vector<Row>& rows, const std::string& tit
       const auto line = [&](const Row& x, const std::string& label) {
         return "| " + budget_label(r.budget_minutes) + " | " + std::to_string(r.seed) + " | " + label + " | " +
                std::to_string(x.steps) + " | " + samples_text(double(x.incident_samples)) + " | " +
-               seconds_text(x.seconds) + " | " + memory_text(x.peak_device_mib) +
-               " | " + g(x.mape) + " | " + g(x.mse) + " | " + g(x.relmse) + " |\n";
+               seconds_text(x.seconds) + " | " + memory_text(x.peak_device_mib) + " | " + g(x.mape) + " | " + g(x.mse) +
+               " | " + g(x.relmse) + " |\n";
       };
       md += line(r, r.method);
       if (const Row* nr = find_steps_row(rows, r, "nr"))
         md += line(*nr, "nr, same steps");
       else
-        md += "| | | nr, same steps | — (not reached within NR's largest budget, or NR not in the sweep) | | | | | | |\n";
+        md +=
+            "| | | nr, same steps | — (not reached within NR's largest budget, or NR not in the sweep) | | | | | | |\n";
     }
     md += "\n";
   }
@@ -117,9 +118,8 @@ std::string tables_markdown(const std::vector<Row>& rows, const std::string& tit
     const auto& [n, budget, method] = key;
     md += "| " + std::to_string(n) + " | " + budget_label(budget) + " | " + method + " | " + std::to_string(m.runs) +
           " | " + g(m.of(m.steps), "%.0f") + " | " + samples_text(m.of(m.incident_samples)) + " | " +
-          seconds_text(m.of(m.seconds)) + " | " +
-          memory_text(m.of(m.memory)) + " | " + g(m.of(m.mape)) + " | " + g(m.of(m.mse)) + " | " + g(m.of(m.relmse)) +
-          " | " + g(m.of(m.residual)) + " |\n";
+          seconds_text(m.of(m.seconds)) + " | " + memory_text(m.of(m.memory)) + " | " + g(m.of(m.mape)) + " | " +
+          g(m.of(m.mse)) + " | " + g(m.of(m.relmse)) + " | " + g(m.of(m.residual)) + " |\n";
   }
   for (const auto& r : rows)
     if (r.kind == RowKind::PathTracing && r.point == Point::Budget)

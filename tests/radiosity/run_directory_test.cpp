@@ -105,8 +105,9 @@ TEST_F(RunDirectoryTest, ResumeAddsTheMissingColumnsToAnOlderLog) {
     const RunDirectory run = RunDirectory::resume(dir, cbox());
     EXPECT_DOUBLE_EQ(run.seconds_trained(), 2.0);
     EXPECT_EQ(text(RunDirectory::log_path(dir)),
-              guide + ",mape,mse,relmse,samples\n25,1.500,0.25,0.500,3,0.005,1,0.5,0.2500,,,,12800\n"
-                      "30,2.000,0.25,0.500,0,0.005,1,0.5,0.2500," +
+              guide +
+                  ",mape,mse,relmse,samples\n25,1.500,0.25,0.500,3,0.005,1,0.5,0.2500,,,,12800\n"
+                  "30,2.000,0.25,0.500,0,0.005,1,0.5,0.2500," +
                   (evaluation.empty() ? ",," : evaluation) + ",15360\n");
   }
 }
