@@ -210,6 +210,8 @@ TrainConfig RunDirectory::load_config(const fs::path& run) {
   if (saved.is_object() && !saved.contains("guide_lag")) saved["guide_lag"] = 0;
   // Runs written before next-event estimation joined the right-hand side trained without it.
   if (saved.is_object() && !saved.contains("nee")) saved["nee"] = false;
+  // Runs written before the L2 start existed began in the relative residual.
+  if (saved.is_object() && !saved.contains("relative_warmup")) saved["relative_warmup"] = 0.0;
   try {
     return parse_train_config(saved);
   } catch (const InputError& e) {

@@ -75,6 +75,10 @@ struct TrainConfig {
   // pulls the scale back; reaching plain L2 only at the end (rather than by 80 % of the budget) keeps enough of
   // the relative pull on dark regions for short budgets (docs/method.md; docs/results/nr-training.md).
   double relative_fade_end = 1.0;
+  // A start in plain L2: the power rises from 0 to the fade's value over this fraction of the budget (0: the
+  // relative residual from the first step). The N-Module's first steps are where the relative residual ran away on
+  // Veach Ajar; L2 sets the scale before it takes over (docs/method.md).
+  double relative_warmup = 0.0;
   long log_every = 25;  // rows of log.csv
   long checkpoint_every = 500;
   // Overrides of the N-Module's settings (encoder, MLP, Adam, gemm backend) as a JSON merge patch over the
@@ -111,7 +115,7 @@ struct TrainConfig {
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, is_loss, bsdf_fraction, guide_warmup, guide_lag,
                                                 residual, nee, samples, batch, steps, minutes, seed, preset,
-                                                anneal_start, anneal_final, relative_fade_end, log_every,
+                                                anneal_start, anneal_final, relative_fade_end, relative_warmup, log_every,
                                                 checkpoint_every, network, guide)
 
 // Applies the keys of `j` over `base`. An unknown key or a value of the wrong type is an InputError naming the

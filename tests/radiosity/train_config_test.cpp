@@ -80,6 +80,20 @@ TEST(TrainConfig, RelativeResidualFadesToL2OverTheBudget) {
   EXPECT_THAT(error_of({{"relative_fade_end", -0.1}}), HasSubstr("relative_fade_end"));
 }
 
+// relative_warmup: plain L2 first, the power rising to the fade's value over that fraction of the budget.
+TEST(TrainConfig, RelativeResidualCanStartInL2) {
+  TrainConfig c;
+  c.relative_warmup = 0.2;
+  EXPECT_EQ(c.relative_power(0.0), 0.0) << "the first step is plain L2";
+  EXPECT_NEAR(c.relative_power(0.1), 0.5 * 0.9, 1e-12) << "half way up towards the fade's 0.9";
+  EXPECT_NEAR(c.relative_power(0.2), 0.8, 1e-12) << "then the fade alone";
+  EXPECT_NEAR(c.relative_power(0.6), 0.4, 1e-12);
+  EXPECT_EQ(c.relative_power(1.0), 0.0);
+  c.residual = Residual::L2;
+  EXPECT_EQ(c.relative_power(0.3), 0.0);
+  EXPECT_THAT(error_of({{"relative_warmup", 1.5}}), HasSubstr("relative_warmup"));
+}
+
 TEST(TrainConfig, GuidedShareRampsInOverTheWarmUp) {
   TrainConfig c;
   c.bsdf_fraction = 0.4;
