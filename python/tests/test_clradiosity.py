@@ -221,7 +221,7 @@ def test_load_run_names_what_is_wrong_with_an_odd_folder(box, tmp_path):
             cr.load_run(tmp_path / "run")
     (tmp_path / "run" / "scene.json").write_text(record)
     log = (tmp_path / "run" / "log.csv").read_text()
-    for text, why in [(log + "3,abc\n", r"log\.csv:\d+: the row has fewer cells"),
+    for text, why in [(log + "3,4\n", r"log\.csv:\d+: the row has fewer cells"),
                       (log.replace("\n2,", "\nx,", 1), r"log\.csv:\d+: step is not a number"),
                       ("seconds\n1\n", "no step")]:
         (tmp_path / "run" / "log.csv").write_text(text)
