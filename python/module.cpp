@@ -154,8 +154,11 @@ class Model {
     return stoppable([&] {
       const std::lock_guard lock(mutex_);  // one render at a time on this model's device queue
       PyImage out;
-      radiosity::render_frames(geometry, std::span(&view, 1), radiosity::radiance_query(ctx_, *network_), settings,
-                               [&](std::size_t, image::Image&& img) { out.image = std::move(img); });
+      // Stopped between chunks (well under a second each), as the CLI's render is: Ctrl-C does not wait for the
+      // whole image.
+      radiosity::render_frames(
+          geometry, std::span(&view, 1), radiosity::radiance_query(ctx_, *network_), settings,
+          [&](std::size_t, image::Image&& img) { out.image = std::move(img); }, [] { return stop_requested(); });
       return out;
     });
   }

@@ -11,6 +11,7 @@
 namespace clr::cl {
 
 Context::Context(DeviceInfo device) : device_(std::move(device)) {
+  const std::lock_guard<std::recursive_mutex> lock(opencl_startup_mutex());
   // Found before any work: each kernel build would otherwise fail with an empty build log.
   if (const std::string cause = pocl_cache_cause(device_.platform_name); !cause.empty())
     throw std::runtime_error(cause);

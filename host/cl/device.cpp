@@ -107,8 +107,14 @@ bool emulating_nvidia_limits() {
   return true;
 }
 
+std::recursive_mutex& opencl_startup_mutex() {
+  static std::recursive_mutex m;
+  return m;
+}
+
 std::vector<DeviceInfo> list_devices() {
   const bool emulate_nvidia = emulating_nvidia_limits();
+  const std::lock_guard<std::recursive_mutex> lock(opencl_startup_mutex());
   cl_uint np = 0;
   const cl_int status = clGetPlatformIDs(0, nullptr, &np);
   if (status == -1001 /* CL_PLATFORM_NOT_FOUND_KHR: the ICD loader found no driver */ || np == 0) return {};

@@ -12,6 +12,7 @@
 #include <CL/cl.h>
 
 #include <cstdint>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -54,6 +55,10 @@ struct DeviceInfo {
 // Every device of every platform, clamped by CLRADIOSITY_EMULATE_LIMITS when it is set (an unknown value throws
 // InputError). An absent ICD (no platforms) yields an empty list, not an error.
 std::vector<DeviceInfo> list_devices();
+// Held while the platforms are discovered (list_devices) and while a context is made: the ICD loader's and a
+// runtime's first-use initialisation are not safe to enter from two threads at once (two Python threads whose first
+// call is `train`: a crash, or a false "no OpenCL platform"). Recursive: a context made inside a listing is fine.
+std::recursive_mutex& opencl_startup_mutex();
 
 // Clamps `device` to NVIDIA's OpenCL limits (what CLRADIOSITY_EMULATE_LIMITS=nvidia applies).
 void emulate_nvidia_limits(DeviceInfo& device);

@@ -361,6 +361,58 @@ def test_ctrl_c_checkpoints_then_raises_keyboard_interrupt(tmp_path):
     assert cr.load_run(out).steps >= 3
 
 
+def test_ctrl_c_stops_a_render_within_moments(box, tmp_path):
+    # A render of minutes, interrupted: KeyboardInterrupt within about a second, as the CLI stops, not once the
+    # whole image is done.
+    run = cr.train(box, tmp_path / "run", steps=2, method="nr", config=SMALL)
+    script = tmp_path / "render.py"
+    script.write_text(
+        "import sys, time, clradiosity as cr\n"
+        "run = cr.load_run(%r)\n"
+        "print('rendering', flush=True)\n"
+        "start = time.monotonic()\n"
+        "try:\n"
+        "    run.render(width=1024, height=1024, spp=512)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('KeyboardInterrupt %%.2f' %% (time.monotonic() - start), flush=True)\n"
+        "    sys.exit(7)\n" % str(run.dir))
+    p = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
+    assert p.stdout.readline().strip() == "rendering", p.stderr.read()
+    time.sleep(2)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    stdout, stderr = p.communicate(timeout=60)
+    assert p.returncode == 7, stderr
+    assert time.monotonic() - sent < 5, "the render ran on after Ctrl-C"
+
+
+def test_two_threads_whose_first_call_trains_start_opencl_safely(tmp_path):
+    # Cold starts in fresh processes: two threads enter the OpenCL start-up at once (the ICD loader's and PoCL's
+    # first-use initialisation); every one must train, none crash or find no platform.
+    script = tmp_path / "threads.py"
+    script.write_text(
+        "import sys, threading, clradiosity as cr\n"
+        "scene = cr.load_scene(%r, res=16)\n"
+        "errors = []\n"
+        "def work(k):\n"
+        "    try:\n"
+        "        cr.train(scene, sys.argv[1] + '/run%%d' %% k, steps=1, method='nr', config=%r)\n"
+        "    except Exception as e:\n"
+        "        errors.append(repr(e))\n"
+        "threads = [threading.Thread(target=work, args=(k,)) for k in range(2)]\n"
+        "[t.start() for t in threads]\n"
+        "[t.join() for t in threads]\n"
+        "print('errors', errors, flush=True)\n"
+        "sys.exit(1 if errors else 0)\n" % (str(BOX), SMALL))
+    for attempt in range(4):
+        out = tmp_path / str(attempt)
+        out.mkdir()
+        r = subprocess.run([sys.executable, str(script), str(out)], capture_output=True, text=True, timeout=300,
+                           env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
+        assert r.returncode == 0, (attempt, r.returncode, r.stdout, r.stderr[-2000:])
+
+
 def _interrupted_training(tmp_path, prelude, steps):
     """A script that sets up its SIGINT disposition (`prelude`), trains `steps` steps and prints how many it ran;
     SIGINT is sent once training has logged step 3. Returns the finished process and its stdout."""
