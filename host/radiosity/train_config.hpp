@@ -115,8 +115,8 @@ struct TrainConfig {
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, is_loss, bsdf_fraction, guide_warmup, guide_lag,
                                                 residual, nee, samples, batch, steps, minutes, seed, preset,
-                                                anneal_start, anneal_final, relative_fade_end, relative_warmup, log_every,
-                                                checkpoint_every, network, guide)
+                                                anneal_start, anneal_final, relative_fade_end, relative_warmup,
+                                                log_every, checkpoint_every, network, guide)
 
 // Applies the keys of `j` over `base`. An unknown key or a value of the wrong type is an InputError naming the
 // key (a misspelt key must not be silently ignored); the result is validated.
