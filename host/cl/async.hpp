@@ -24,6 +24,7 @@
 #include "cl/context.hpp"
 #include "cl/error.hpp"
 #include "cl/handle.hpp"
+#include "common/address_space.hpp"
 
 namespace clr::cl {
 
@@ -55,6 +56,8 @@ class PinnedMemory {
     if (count <= capacity_) return;
     release();
     capacity_ = count + count / 2;
+    if (ctx.device().type == DeviceType::Cpu)  // as cl::Buffer: host memory, weighed before PoCL maps it
+      require_address_space(capacity_ * sizeof(T), ctx.bytes_in_use(), "a pinned OpenCL buffer");
     cl_int status = CL_SUCCESS;
     pinned_ =
         MemHandle(clCreateBuffer(ctx.get(), access | CL_MEM_ALLOC_HOST_PTR, capacity_ * sizeof(T), nullptr, &status));

@@ -12,6 +12,7 @@
 #include "cl/context.hpp"
 #include "cl/error.hpp"
 #include "cl/handle.hpp"
+#include "common/address_space.hpp"
 
 namespace clr::cl {
 
@@ -24,6 +25,9 @@ class Buffer {
     if (bytes > ctx.device().max_alloc_bytes)
       throw std::runtime_error("buffer of " + std::to_string(bytes) + " bytes exceeds the device's max allocation of " +
                                std::to_string(ctx.device().max_alloc_bytes) + " bytes on " + ctx.device().name);
+    // A CPU device's buffers are this process's memory, backed at first use, where PoCL asserts when it cannot:
+    // weighed first against the address-space limit, with every live buffer counted as not yet backed.
+    if (ctx.device().type == DeviceType::Cpu) require_address_space(bytes, ctx.bytes_in_use(), "an OpenCL buffer");
     cl_int status = CL_SUCCESS;
     // A zero-sized cl_mem is invalid; empty buffers hold one element so kernels can still take them as arguments.
     mem_ = MemHandle(clCreateBuffer(ctx.get(), flags, std::max<std::size_t>(bytes, sizeof(T)), nullptr, &status));

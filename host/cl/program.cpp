@@ -9,6 +9,7 @@
 #include "cl/context.hpp"
 #include "cl/error.hpp"
 #include "cl/kernel_source.hpp"
+#include "common/address_space.hpp"
 
 namespace clr::cl {
 namespace {
@@ -102,6 +103,9 @@ Program::Program(const Context& ctx, const std::vector<std::string>& files, cons
   log_ = runtime_build_log(program_.get(), device);
   // The runtime's log first; what it printed only where the log does not already hold it.
   if (!printed.empty() && log_.find(printed) == std::string::npos) log_ += (log_.empty() ? "" : "\n") + printed;
+  // A CPU runtime's compiler that ran out of address space says only that the build failed: said as what it is.
+  if (status != CL_SUCCESS && ctx.device().type == DeviceType::Cpu)
+    require_address_space(0, 0, "building OpenCL program [" + names + "]");
   if (status != CL_SUCCESS) {
     throw Error(status, "building OpenCL program [" + names + "] with options '" + options + "' on " +
                             ctx.device().name + " failed with " + status_name(status) + "; build log:\n" + log_);

@@ -10,8 +10,10 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <thread>
 
@@ -326,6 +328,28 @@ TEST_F(FaultCli, SideOutputsThatFailCostNoTraining) {
   const auto resumed = run_cli("train " + kBox + " --resume --steps 160 -o " + run.string());
   EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_THAT(resumed.out, HasSubstr("(160 steps)"));
+}
+
+// Under an address-space limit (ulimit -v) too tight for the paper's networks, training ends with the out-of-memory
+// line (exit 1) at every limit, never in a runtime's assertion (PoCL asserts when a buffer it backs lazily cannot be
+// mapped, exit 134), and leaves no partial output.
+TEST_F(FaultCli, ATightAddressSpaceEndsWithTheOutOfMemoryLine) {
+  for (int mib = 500; mib <= 1700; mib += 200) {
+    const fs::path run = dir / ("limited" + std::to_string(mib));
+    const std::string command = "ulimit -v " + std::to_string(mib * 1024) + " && '" + std::string(CLR_CLI_PATH) +
+                                "' train " + kBox + " --preset paper --steps 1 -q -o " + run.string() + " 2>'" +
+                                (dir / "limited.err").string() + "' >/dev/null";
+    const int status = std::system(("bash -c \"" + command + "\"").c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    std::ifstream in(dir / "limited.err");
+    const std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const int code = WEXITSTATUS(status);
+    EXPECT_TRUE(code == 0 || code == 1) << mib << " MiB: exit " << code << ": " << err;
+    if (code == 1) {
+      EXPECT_THAT(err, HasSubstr("out of host memory")) << mib << " MiB";
+      EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    }
+  }
 }
 
 TEST_F(FaultCli, AFullDeviceExitsOneAndNamesTheReason) {
