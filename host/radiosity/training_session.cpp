@@ -123,8 +123,10 @@ const std::vector<SettingFlag>& setting_flags() {
   return flags;
 }
 
-TrainOutcome train(const TrainRequest& request) {
-  check_environment();  // before any file of the run is written (the Python module comes here directly)
+namespace {
+
+// train() but for the cleanup of a run that never checkpointed.
+TrainOutcome train_run(const TrainRequest& request) {
   const auto& opt = request;
   TrainConfig config;
   if (!opt.config_file.empty()) config = load_train_config(opt.config_file);
@@ -278,6 +280,28 @@ TrainOutcome train(const TrainRequest& request) {
   side_outputs.attempt("the convergence figure", [&] { outcome.convergence = write_convergence_figure(opt.run_dir); });
   outcome.side_output_failures = side_outputs.failures();
   return outcome;
+}
+
+}  // namespace
+
+// A fresh run that fails before its first checkpoint (out of memory while its buffers are made, a device error in
+// its first steps) could be neither resumed (no checkpoint) nor started again (its folder is not empty): the files
+// it wrote are removed, leaving the folder as it was. Only a folder that was absent or empty is touched.
+TrainOutcome train(const TrainRequest& request) {
+  check_environment();  // before any file of the run is written (the Python module comes here directly)
+  std::error_code ec;
+  const std::filesystem::path dir = request.run_dir;
+  const bool fresh = !request.resume && (!std::filesystem::exists(dir, ec) || std::filesystem::is_empty(dir, ec));
+  try {
+    return train_run(request);
+  } catch (...) {
+    if (fresh && !std::filesystem::exists(RunDirectory::model_path(dir), ec))
+      for (const auto& file :
+           {RunDirectory::config_path(dir), RunDirectory::log_path(dir), RunDirectory::scene_path(dir),
+            RunDirectory::evaluation_path(dir), RunDirectory::convergence_path(dir)})
+        std::filesystem::remove(file, ec);
+    throw;
+  }
 }
 
 }  // namespace clr::radiosity

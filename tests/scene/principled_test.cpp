@@ -58,7 +58,18 @@ struct MitsubaValue {
   float rgb[3];        // f·cos θi
 };
 
-class Principled : public SceneFiles {};
+class Principled : public SceneFiles {
+ protected:
+  // The loader's message for a rectangle with this BSDF, or "accepted".
+  std::string refused(const std::string& bsdf) {
+    try {
+      scene::load_scene(scene("<shape type=\"rectangle\">" + bsdf + "</shape>"));
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "accepted";
+  }
+};
 
 TEST_F(Principled, EvalMatchesMitsuba3) {
   const MitsubaValue table[] = {
@@ -143,14 +154,6 @@ TEST_F(Principled, BlackFromBelowWithoutTransmission) {
 }
 
 TEST_F(Principled, RefusesWhatItDoesNotModelByName) {
-  const auto refused = [&](const std::string& bsdf) -> std::string {
-    try {
-      scene::load_scene(scene("<shape type=\"rectangle\">" + bsdf + "</shape>"));
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "accepted";
-  };
   EXPECT_THAT(refused(R"(<bsdf type="principled"><float name="spec_trans" value="1.5"/></bsdf>)"),
               ::testing::HasSubstr("spec_trans must lie in [0, 1]"));
   EXPECT_THAT(refused(R"(<bsdf type="principled"><float name="eta" value="1.5"/>
@@ -165,14 +168,6 @@ TEST_F(Principled, RefusesWhatItDoesNotModelByName) {
 // principledthin's diff_trans in [0, 2]): outside it the scene is refused naming the value, never clamped — a
 // roughness of 1e5 made the image ~1e7 too bright as a number and a clamped 1000 as a texture.
 TEST_F(Principled, EveryValueHasItsRangeAsANumberAndAsTexels) {
-  const auto refused = [&](const std::string& bsdf) -> std::string {
-    try {
-      scene::load_scene(scene("<shape type=\"rectangle\">" + bsdf + "</shape>"));
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "accepted";
-  };
   struct Range {
     const char* bsdf;
     const char* name;
