@@ -76,8 +76,8 @@ struct TrainConfig {
   // the relative pull on dark regions for short budgets (docs/method.md; docs/results/nr-training.md).
   double relative_fade_end = 1.0;
   // A start in plain L2: the power rises from 0 to the fade's value over this fraction of the budget (0: the
-  // relative residual from the first step). The N-Module's first steps are where the relative residual ran away on
-  // Veach Ajar; L2 sets the scale before it takes over (docs/method.md).
+  // relative residual from the first step). On Veach Ajar it moved the relative residual's early runaway to where
+  // the power neared 1 rather than removing it (docs/method.md): a setting, not the default.
   double relative_warmup = 0.0;
   long log_every = 25;  // rows of log.csv
   long checkpoint_every = 500;
