@@ -37,7 +37,10 @@ class CapturedOutput {
     saved_ = ::dup(2);
     if (saved_ < 0 || ::dup2(::fileno(f), 2) < 0) restore();
   }
-  ~CapturedOutput() { restore(); }
+  ~CapturedOutput() {
+    restore();
+    if (file_) std::fclose(file_);
+  }
   CapturedOutput(const CapturedOutput&) = delete;
   CapturedOutput& operator=(const CapturedOutput&) = delete;
 
