@@ -391,6 +391,7 @@ PYBIND11_MODULE(_clradiosity, m) {
         d["mape"] = metrics.mape;
         d["mse"] = metrics.mse;
         d["relmse"] = metrics.relmse;
+        d["mean_ratio"] = metrics.mean_ratio;
         d["non_finite"] = metrics.non_finite;
         d["reference_non_finite"] = metrics.reference_non_finite;
         return d;

@@ -36,6 +36,7 @@ Command add_compare_command(CLI::App& app) {
               std::cout << nlohmann::json{{"mape", m.mape},
                                           {"mse", m.mse},
                                           {"relmse", m.relmse},
+                                          {"mean_ratio", m.mean_ratio},
                                           {"non_finite", m.non_finite},
                                           {"reference_non_finite", m.reference_non_finite},
                                           {"width", img.width},

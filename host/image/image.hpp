@@ -59,6 +59,9 @@ struct Metrics {
   double mape = 0;    // mean(|a−b| / (|b| + 0.01))
   double mse = 0;     // mean((a−b)²)
   double relmse = 0;  // mean((a−b)² / (b² + 0.01))
+  // Σa / Σb: the image's brightness against the reference's. A model whose scale runs away shows it here first
+  // (MAPE saturates near the ratio); 1 is right on average, whatever the per-pixel error.
+  double mean_ratio = 1;
   // Values (pixels·channels) of the image under test that are NaN or infinite. A model or renderer that produced
   // them has failed there, and no mean over the rest may hide it: the three metrics are then NaN.
   std::size_t non_finite = 0;

@@ -56,7 +56,7 @@ Metrics compare(const Image& a, const Image& ref) {
     throw InputError("cannot compare " + size_text(a) + " with " + size_text(ref));
   require_usable_reference(ref, "the reference");
   Metrics m;
-  double mape = 0, mse = 0, relmse = 0;
+  double mape = 0, mse = 0, relmse = 0, sum = 0, ref_sum = 0;
   std::size_t used = 0;
   for (std::size_t i = 0; i < a.rgb.size(); ++i) {
     const double x = a.rgb[i], r = ref.rgb[i];
@@ -68,20 +68,24 @@ Metrics compare(const Image& a, const Image& ref) {
     mape += std::abs(d) / (std::abs(r) + 0.01);
     mse += d * d;
     relmse += d * d / (r * r + 0.01);
+    sum += x;
+    ref_sum += r;
   }
   if (m.non_finite > 0 || used == 0) {
-    m.mape = m.mse = m.relmse = std::numeric_limits<double>::quiet_NaN();
+    m.mape = m.mse = m.relmse = m.mean_ratio = std::numeric_limits<double>::quiet_NaN();
   } else {
     m.mape = mape / double(used);
     m.mse = mse / double(used);
     m.relmse = relmse / double(used);
+    m.mean_ratio = ref_sum > 0 ? sum / ref_sum : std::numeric_limits<double>::quiet_NaN();
   }
   return m;
 }
 
 std::string describe(const Metrics& m) {
-  char text[160];
-  std::snprintf(text, sizeof text, "MAPE %.6g  MSE %.6g  relMSE %.6g", m.mape, m.mse, m.relmse);
+  char text[200];
+  std::snprintf(text, sizeof text, "MAPE %.6g  MSE %.6g  relMSE %.6g  mean ratio %.4g", m.mape, m.mse, m.relmse,
+                m.mean_ratio);
   std::string s = text;
   if (m.non_finite) s += "  (" + std::to_string(m.non_finite) + " non-finite values in the image: metrics undefined)";
   if (m.reference_non_finite)

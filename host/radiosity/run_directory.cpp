@@ -26,17 +26,21 @@ namespace {
 constexpr const char* kLogHeader = "step,seconds,loss,lookups,non_finite,learning_rate,residual_power";
 constexpr const char* kGuideLogColumns = ",guide_loss,guided_share";  // isnr runs only
 // Later columns go last, so that the columns before keep their places for readers of older logs: the model's error
-// against a reference (train --reference; empty in rows without an evaluation), then the incident samples seen.
+// against a reference (train --reference; empty in rows without an evaluation), then the incident samples seen, then
+// the evaluated image's mean over the reference's (a runaway's first sign).
 constexpr const char* kEvaluationLogColumns = ",mape,mse,relmse";
 constexpr const char* kSamplesLogColumn = ",samples";
+constexpr const char* kMeanRatioLogColumn = ",mean_ratio";
 
 // The header's shapes, oldest first: each log written since has one of them; the last is today's.
-enum class LogShape { Base, Evaluation, Samples };
+enum class LogShape { Base, Evaluation, Samples, MeanRatio };
+constexpr LogShape kLogShapes[] = {LogShape::Base, LogShape::Evaluation, LogShape::Samples, LogShape::MeanRatio};
 
-std::string log_header(const TrainConfig& config, LogShape shape = LogShape::Samples) {
+std::string log_header(const TrainConfig& config, LogShape shape = LogShape::MeanRatio) {
   return std::string(kLogHeader) + (config.guided() ? kGuideLogColumns : "") +
          (shape >= LogShape::Evaluation ? kEvaluationLogColumns : "") +
-         (shape >= LogShape::Samples ? kSamplesLogColumn : "");
+         (shape >= LogShape::Samples ? kSamplesLogColumn : "") +
+         (shape >= LogShape::MeanRatio ? kMeanRatioLogColumn : "");
 }
 
 // log.csv's samples cell of `step`: empty for a config written before the batch was resolved into it (batch 0).
@@ -58,22 +62,21 @@ void add_missing_columns(const fs::path& log_file, const TrainConfig& config) {
   const std::string text = read_input_text(log_file, "run log");
   const auto eol = text.find('\n');
   const std::string header = text.substr(0, eol);
-  LogShape shape;
-  if (header == log_header(config, LogShape::Base))
-    shape = LogShape::Base;
-  else if (header == log_header(config, LogShape::Evaluation))
-    shape = LogShape::Evaluation;
-  else
-    return;
+  const auto shape = std::find_if(std::begin(kLogShapes), std::end(kLogShapes),
+                                  [&](LogShape s) { return header == log_header(config, s); });
+  if (shape == std::end(kLogShapes) || *shape == LogShape::MeanRatio) return;
   std::istringstream rows(eol == std::string::npos ? std::string() : text.substr(eol + 1));
   std::string out = log_header(config) + "\n", line;
   while (std::getline(rows, line)) {
     if (line.empty()) continue;
-    out += line + (shape == LogShape::Base ? ",,," : "") + ",";
-    long step = -1;
-    const auto [end, ec] = std::from_chars(line.data(), line.data() + line.size(), step);
-    out +=
-        (ec == std::errc() && end != line.data() + line.size() && *end == ',' ? samples_cell(config, step) : "") + "\n";
+    out += line + (*shape < LogShape::Evaluation ? ",,," : "");
+    if (*shape < LogShape::Samples) {
+      long step = -1;
+      const auto [end, ec] = std::from_chars(line.data(), line.data() + line.size(), step);
+      out += "," + (ec == std::errc() && end != line.data() + line.size() && *end == ',' ? samples_cell(config, step)
+                                                                                         : std::string());
+    }
+    out += ",\n";
   }
   write_record_atomically(log_file, out, "run log");
 }
@@ -212,6 +215,8 @@ TrainConfig RunDirectory::load_config(const fs::path& run) {
   if (saved.is_object() && !saved.contains("nee")) saved["nee"] = false;
   // Runs written before the L2 start existed began in the relative residual.
   if (saved.is_object() && !saved.contains("relative_warmup")) saved["relative_warmup"] = 0.0;
+  // Runs written before the power's ceiling existed reached power 1.
+  if (saved.is_object() && !saved.contains("relative_power_max")) saved["relative_power_max"] = 1.0;
   try {
     return parse_train_config(saved);
   } catch (const InputError& e) {
@@ -228,12 +233,9 @@ std::string RunDirectory::log_line(const LogRow& r) const {
     std::snprintf(row, sizeof row, ",%.6g,%.4f", r.guide_loss, r.guided_share);
     line += row;
   }
-  if (r.evaluation)
-    line +=
-        "," + shortest(r.evaluation->mape) + "," + shortest(r.evaluation->mse) + "," + shortest(r.evaluation->relmse);
-  else
-    line += ",,,";
-  return line + "," + samples_cell(config_, r.step) + "\n";
+  const auto& e = r.evaluation;
+  line += e ? "," + shortest(e->mape) + "," + shortest(e->mse) + "," + shortest(e->relmse) : ",,,";
+  return line + "," + samples_cell(config_, r.step) + "," + (e ? shortest(e->mean_ratio) : "") + "\n";
 }
 
 void RunDirectory::append_log(const LogRow& r) const {

@@ -86,6 +86,7 @@ void TrainConfig::validate() const {
   require(anneal_final > 0 && anneal_final <= 1, "anneal_final", anneal_final, "in (0, 1]");
   require(relative_fade_end >= 0 && relative_fade_end <= 1, "relative_fade_end", relative_fade_end, "in [0, 1]");
   require(relative_warmup >= 0 && relative_warmup <= 1, "relative_warmup", relative_warmup, "in [0, 1]");
+  require(relative_power_max >= 0 && relative_power_max <= 1, "relative_power_max", relative_power_max, "in [0, 1]");
   require(log_every >= 1, "log_every", log_every, ">= 1");
   require(checkpoint_every >= 1, "checkpoint_every", checkpoint_every, ">= 1");
   require(network.is_object(), "network", network, "an object");
@@ -127,7 +128,8 @@ double TrainConfig::bsdf_fraction_at(double progress) const {
 double TrainConfig::relative_power(double progress) const {
   if (residual == Residual::L2) return 0.0;
   const double fade = relative_fade_end <= 0 ? 1.0 : std::max(0.0, 1.0 - progress / relative_fade_end);
-  return relative_warmup > 0 && progress < relative_warmup ? fade * std::max(0.0, progress) / relative_warmup : fade;
+  const double ramp = relative_warmup > 0 && progress < relative_warmup ? std::max(0.0, progress) / relative_warmup : 1;
+  return relative_power_max * fade * ramp;
 }
 
 TrainConfig parse_train_config(const nlohmann::json& j, const TrainConfig& base) {

@@ -79,6 +79,10 @@ struct TrainConfig {
   // relative residual from the first step). On Veach Ajar it moved the relative residual's early runaway to where
   // the power neared 1 rather than removing it (docs/method.md): a setting, not the default.
   double relative_warmup = 0.0;
+  // The power's ceiling: the schedule above times this. At 1 the relative residual is scale-free — a solution
+  // scaled by k costs the same at large k — so nothing but the rarely found emitters holds the image's scale; below
+  // 1 the loss grows with the scale (docs/method.md).
+  double relative_power_max = 1.0;
   long log_every = 25;  // rows of log.csv
   long checkpoint_every = 500;
   // Overrides of the N-Module's settings (encoder, MLP, Adam, gemm backend) as a JSON merge patch over the
@@ -116,7 +120,7 @@ struct TrainConfig {
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, is_loss, bsdf_fraction, guide_warmup, guide_lag,
                                                 residual, nee, samples, batch, steps, minutes, seed, preset,
                                                 anneal_start, anneal_final, relative_fade_end, relative_warmup,
-                                                log_every, checkpoint_every, network, guide)
+                                                relative_power_max, log_every, checkpoint_every, network, guide)
 
 // Applies the keys of `j` over `base`. An unknown key or a value of the wrong type is an InputError naming the
 // key (a misspelt key must not be silently ignored); the result is validated.

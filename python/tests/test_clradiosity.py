@@ -152,6 +152,7 @@ def test_reference_is_the_cli_reference_and_compare_the_cli_compare(box, tmp_pat
     assert metrics["mape"] == pytest.approx(np.mean(np.abs(a - b) / (np.abs(b) + 0.01)), rel=1e-9)
     assert metrics["mse"] == pytest.approx(np.mean((a - b) ** 2), rel=1e-9)
     assert metrics["relmse"] == pytest.approx(np.mean((a - b) ** 2 / (b ** 2 + 0.01)), rel=1e-9)
+    assert metrics["mean_ratio"] == pytest.approx(np.sum(a) / np.sum(b), rel=1e-9)
     cr_compare = cli("compare", tmp_path / "ref.exr", _write(tmp_path, better, box), "--json")
     assert cr_compare.returncode == 0, cr_compare.stderr
     assert json.loads(cr_compare.stdout)["mape"] == metrics["mape"]

@@ -181,15 +181,16 @@ TEST_F(ConvergenceCli, ResumedRunKeepsItsImageMode) {
   EXPECT_THAT(r.err, HasSubstr("--eval-mode"));
 }
 
-// Logs of both older shapes (before the evaluation columns, before the samples column) gain today's columns on
-// resume: empty evaluations, and the samples each row's step had seen by the run's batch and N.
+// Logs of the three older shapes (before the evaluation columns, before the samples column, before the mean ratio)
+// gain today's columns on resume: empty evaluations, and the samples each row's step had seen by the run's batch
+// and N.
 TEST_F(ConvergenceCli, OlderRunGainsTheColumnsOnResume) {
-  for (const std::string cut : {",mape,mse,relmse,samples", ",samples"}) {
+  for (const std::string cut : {",mape,mse,relmse,samples,mean_ratio", ",samples,mean_ratio", ",mean_ratio"}) {
     const fs::path run = dir / ("old" + std::to_string(cut.size()));
     auto r = run_cli("train " + kBox + " --steps 10 --config " + config + " -o " + run.string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const Log fresh(run / "log.csv");
-    ASSERT_EQ(fresh.header.back(), "samples");
+    ASSERT_EQ(fresh.header.back(), "mean_ratio");
     const auto settings = nlohmann::json::parse(text_of(run / "config.json"));
     const long per_step = settings.at("batch").get<long>() * settings.at("samples").get<long>();
     EXPECT_EQ(fresh.at(10, "samples"), std::to_string(10 * per_step));
@@ -216,6 +217,9 @@ TEST_F(ConvergenceCli, OlderRunGainsTheColumnsOnResume) {
     EXPECT_NE(upgraded.at(20, "mape"), "");
     EXPECT_EQ(upgraded.at(10, "samples"), std::to_string(10 * per_step)) << "an older row's samples, restored";
     EXPECT_EQ(upgraded.at(20, "samples"), std::to_string(20 * per_step));
+    EXPECT_EQ(upgraded.at(10, "mean_ratio"), "");
+    const double ratio = std::stod(upgraded.at(20, "mean_ratio"));
+    EXPECT_TRUE(ratio > 0 && std::isfinite(ratio)) << upgraded.at(20, "mean_ratio");
   }
 }
 

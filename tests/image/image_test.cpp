@@ -82,7 +82,11 @@ TEST(Metrics, MatchHandComputedValues) {
   EXPECT_NEAR(m.mape, (0.5 / 0.51 + 0.0 + 0.1 / 0.11) / 3, 1e-6);
   EXPECT_NEAR(m.mse, (0.25 + 0.0 + 0.01) / 3, 1e-6);
   EXPECT_NEAR(m.relmse, (0.25 / 0.26 + 0.0 + 0.01 / 0.02) / 3, 1e-6);
+  EXPECT_NEAR(m.mean_ratio, 1.5 / 1.1, 1e-6);
   EXPECT_EQ(compare(b, b).mape, 0.0);
+  EXPECT_EQ(compare(b, b).mean_ratio, 1.0);
+  Image black(1, 1);
+  EXPECT_TRUE(std::isnan(compare(a, black).mean_ratio)) << "no brightness to compare with";
 }
 
 TEST(Metrics, NonFiniteValuesInTheImageMakeEveryMetricNonFinite) {
@@ -92,7 +96,8 @@ TEST(Metrics, NonFiniteValuesInTheImageMakeEveryMetricNonFinite) {
     a.rgb = {1, 1, 1, bad, 1, 1};
     const Metrics m = compare(a, b);
     EXPECT_EQ(m.non_finite, 1u);
-    EXPECT_TRUE(std::isnan(m.mape) && std::isnan(m.mse) && std::isnan(m.relmse)) << "a mean over the rest hid it";
+    EXPECT_TRUE(std::isnan(m.mape) && std::isnan(m.mse) && std::isnan(m.relmse) && std::isnan(m.mean_ratio))
+        << "a mean over the rest hid it";
     EXPECT_THAT(describe(m), HasSubstr("1 non-finite values in the image"));
   }
   a.rgb.assign(6, std::numeric_limits<float>::quiet_NaN());
@@ -107,6 +112,7 @@ TEST(Metrics, NonFiniteReferenceValuesAreLeftOutAndCounted) {
   EXPECT_EQ(m.non_finite, 0u);
   EXPECT_EQ(m.reference_non_finite, 1u);
   EXPECT_EQ(m.mse, 0.0);
+  EXPECT_EQ(m.mean_ratio, 1.0) << "the left-out value counts on neither side";
   EXPECT_THAT(describe(m), HasSubstr("1 non-finite values in the reference"));
 }
 
@@ -133,6 +139,7 @@ TEST(CompareCommand, PrintsMetricsAndRejectsBadInput) {
                               " --json --error-map " + (dir.path / "err.png").string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("\"mape\":0.98039"));  // 0.5 / 0.51
+  EXPECT_THAT(r.out, HasSubstr("\"mean_ratio\":2.0"));
   EXPECT_TRUE(fs::exists(dir.path / "err.png"));
 
   r = clr::test::run_cli("compare " + (dir.path / "ref.exr").string() + " " + (dir.path / "a.exr").string());

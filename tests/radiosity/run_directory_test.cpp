@@ -60,9 +60,9 @@ TEST_F(RunDirectoryTest, StartWritesTheSettingsAndTheLogHeader) {
   run.start(config, cbox());
   EXPECT_EQ(RunDirectory::load_config(dir).method, Method::Nr);
   EXPECT_EQ(text(RunDirectory::log_path(dir)),
-            "step,seconds,loss,lookups,non_finite,learning_rate,residual_power,mape,mse,relmse,samples\n");
+            "step,seconds,loss,lookups,non_finite,learning_rate,residual_power,mape,mse,relmse,samples,mean_ratio\n");
   run.append_log({.step = 25, .seconds = 1.5, .loss = 0.25, .lookups = 0.5, .non_finite = 3});
-  EXPECT_THAT(text(RunDirectory::log_path(dir)), HasSubstr("\n25,1.500,0.25,0.500,3,0,0,,,,75000\n"))
+  EXPECT_THAT(text(RunDirectory::log_path(dir)), HasSubstr("\n25,1.500,0.25,0.500,3,0,0,,,,75000,\n"))
       << "no evaluation: its columns empty; the samples seen: 25 steps of 1000 points × 3 directions";
 }
 
@@ -74,22 +74,25 @@ TEST_F(RunDirectoryTest, EvaluatedRowsCarryTheMetricsExactly) {
   RunDirectory run = RunDirectory::create(dir);
   run.start(config, cbox());
   run.append_log({.step = 5, .seconds = 1});
-  const image::Metrics m{.mape = 0.1, .mse = 1.0 / 3.0, .relmse = 2.5e-7};
+  const image::Metrics m{.mape = 0.1, .mse = 1.0 / 3.0, .relmse = 2.5e-7, .mean_ratio = 1.25};
   run.replace_last_log_row({.step = 5, .seconds = 1, .evaluation = m});
   EXPECT_EQ(text(RunDirectory::log_path(dir)),
-            "step,seconds,loss,lookups,non_finite,learning_rate,residual_power,mape,mse,relmse,samples\n"
-            "5,1.000,0,0.000,0,0,0,0.1,0.3333333333333333,2.5e-07,\n")
+            "step,seconds,loss,lookups,non_finite,learning_rate,residual_power,mape,mse,relmse,samples,mean_ratio\n"
+            "5,1.000,0,0.000,0,0,0,0.1,0.3333333333333333,2.5e-07,,1.25\n")
       << "a config whose batch is unresolved (0) cannot say the samples";
 }
 
 // A log written before today's columns existed gains them when the run resumes, so that every row has the header's
-// fields: empty evaluations, and the samples each row's step had seen.
+// fields: empty evaluations, the samples each row's step had seen, and empty mean ratios (the three older shapes).
 TEST_F(RunDirectoryTest, ResumeAddsTheMissingColumnsToAnOlderLog) {
   const std::string guide = "step,seconds,loss,lookups,non_finite,learning_rate,residual_power,guide_loss,guided_share";
   const std::pair<std::string, std::string> older[] = {
       {guide + "\n25,1.500,0.25,0.500,3,0.005,1,0.5,0.2500\n30,2.000,0.25,0.500,0,0.005,1,0.5,0.2500\n", ""},
       {guide + ",mape,mse,relmse\n25,1.500,0.25,0.500,3,0.005,1,0.5,0.2500,,,\n"
                "30,2.000,0.25,0.500,0,0.005,1,0.5,0.2500,0.1,0.2,0.3\n",
+       "0.1,0.2,0.3"},
+      {guide + ",mape,mse,relmse,samples\n25,1.500,0.25,0.500,3,0.005,1,0.5,0.2500,,,,12800\n"
+               "30,2.000,0.25,0.500,0,0.005,1,0.5,0.2500,0.1,0.2,0.3,15360\n",
        "0.1,0.2,0.3"}};
   for (const auto& [log, evaluation] : older) {
     fs::remove_all(dir);
@@ -106,9 +109,9 @@ TEST_F(RunDirectoryTest, ResumeAddsTheMissingColumnsToAnOlderLog) {
     EXPECT_DOUBLE_EQ(run.seconds_trained(), 2.0);
     EXPECT_EQ(text(RunDirectory::log_path(dir)),
               guide +
-                  ",mape,mse,relmse,samples\n25,1.500,0.25,0.500,3,0.005,1,0.5,0.2500,,,,12800\n"
+                  ",mape,mse,relmse,samples,mean_ratio\n25,1.500,0.25,0.500,3,0.005,1,0.5,0.2500,,,,12800,\n"
                   "30,2.000,0.25,0.500,0,0.005,1,0.5,0.2500," +
-                  (evaluation.empty() ? ",," : evaluation) + ",15360\n");
+                  (evaluation.empty() ? ",," : evaluation) + ",15360,\n");
   }
 }
 
@@ -130,8 +133,8 @@ TEST_F(RunDirectoryTest, IsnrRowsCarryTheGuideColumns) {
   run.start(TrainConfig{}, cbox());
   run.append_log({.step = 1, .guide_loss = 0.5, .guided_share = 0.25});
   const std::string log = text(RunDirectory::log_path(dir));
-  EXPECT_THAT(log, HasSubstr(",guide_loss,guided_share,mape,mse,relmse,samples\n"));
-  EXPECT_THAT(log, HasSubstr(",0.5,0.2500,,,,\n"));
+  EXPECT_THAT(log, HasSubstr(",guide_loss,guided_share,mape,mse,relmse,samples,mean_ratio\n"));
+  EXPECT_THAT(log, HasSubstr(",0.5,0.2500,,,,,\n"));
 }
 
 TEST_F(RunDirectoryTest, OneWriterAtATime) {

@@ -94,6 +94,23 @@ TEST(TrainConfig, RelativeResidualCanStartInL2) {
   EXPECT_THAT(error_of({{"relative_warmup", 1.5}}), HasSubstr("relative_warmup"));
 }
 
+// relative_power_max: the whole schedule scaled below 1, so the relative residual never reaches its scale-free power.
+TEST(TrainConfig, RelativePowerHasACeiling) {
+  TrainConfig c;
+  c.relative_power_max = 0.5;
+  c.relative_fade_end = 1.0;
+  c.relative_warmup = 0.0;
+  EXPECT_EQ(c.relative_power(0.0), 0.5);
+  EXPECT_NEAR(c.relative_power(0.5), 0.25, 1e-12);
+  EXPECT_EQ(c.relative_power(1.0), 0.0);
+  c.relative_warmup = 0.2;
+  EXPECT_NEAR(c.relative_power(0.1), 0.5 * 0.5 * 0.9, 1e-12) << "the ramp and the fade under the ceiling";
+  c.relative_power_max = 0.0;
+  EXPECT_EQ(c.relative_power(0.5), 0.0) << "a ceiling of 0 is plain L2";
+  EXPECT_THAT(error_of({{"relative_power_max", 1.5}}), HasSubstr("relative_power_max"));
+  EXPECT_THAT(error_of({{"relative_power_max", -0.5}}), HasSubstr("in [0, 1]"));
+}
+
 TEST(TrainConfig, GuidedShareRampsInOverTheWarmUp) {
   TrainConfig c;
   c.bsdf_fraction = 0.4;
