@@ -10,3 +10,15 @@ function(clr_embed_kernels output)
     COMMENT "Embedding OpenCL kernels"
     VERBATIM)
 endfunction()
+
+# The same for other files embedded by name (the report page's HTML, JS and CSS, report/): NAMESPACE::FUNCTION()
+# returns their map.
+function(clr_embed_files output namespace function)
+  add_custom_command(
+    OUTPUT ${output}
+    COMMAND ${CMAKE_COMMAND} -DOUTPUT=${output} "-DINPUTS=${ARGN}" -DNAMESPACE=${namespace} -DFUNCTION=${function}
+            -P ${CLR_EMBED_SCRIPT}
+    DEPENDS ${ARGN} ${CLR_EMBED_SCRIPT}
+    COMMENT "Embedding ${function}"
+    VERBATIM)
+endfunction()

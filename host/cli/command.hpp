@@ -2,10 +2,13 @@
 // Each subcommand registers itself on the CLI11 app and returns the function that runs it after parsing.
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <optional>
 #include <string>
+
+#include "report/run_report.hpp"
 
 namespace clr::cli {
 
@@ -44,6 +47,10 @@ Command add_residual_command(CLI::App& app);
 Command add_guide_command(CLI::App& app);
 Command add_sweep_command(CLI::App& app);
 Command add_export_command(CLI::App& app);
+Command add_report_command(CLI::App& app);
+// The report page of a run (report/run_report.hpp) into `out`, written atomically, with its images' metrics and
+// the page's size on stdout: `report` and `train --report`.
+void write_run_report(const report::RunReportOptions& options, const std::filesystem::path& out);
 
 // `clradiosity` without a subcommand: train and render the bundled Cornell box (README's first command) for
 // `minutes`, or with a preset's settings and budget.

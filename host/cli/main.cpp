@@ -155,6 +155,7 @@ int run(int argc, char** argv) {
       clr::cli::add_devices_command(app), clr::cli::add_compare_command(app), clr::cli::add_reference_command(app),
       clr::cli::add_train_command(app),   clr::cli::add_render_command(app),  clr::cli::add_residual_command(app),
       clr::cli::add_guide_command(app),   clr::cli::add_sweep_command(app),   clr::cli::add_export_command(app),
+      clr::cli::add_report_command(app),
   };
   // pbrt's --quiet: no progress and no informational lines on stderr; results (stdout) and errors stay.
   bool quiet = false;

@@ -2,18 +2,22 @@
 //                  [--steps S | --minutes T] [--preset preview|balanced|quality|paper] [--seed K] [--config FILE.json]
 //                  [--reference REF.exr [--eval-every S] [--eval-spp K] [--eval-mode lhs|rhs]] [--preview FILE.png
 //                  [--preview-every S]]
-//                  [--resume] -o RUN_DIR
+//                  [--report REPORT.html] [--resume] -o RUN_DIR
+#include <filesystem>
 #include <iostream>
 
 #include "cli/command.hpp"
 #include "cli/number_checks.hpp"
+#include "common/atomic_file.hpp"
+#include "common/error.hpp"
+#include "common/stop_signal.hpp"
 #include "radiosity/preset.hpp"
 #include "radiosity/training_session.hpp"
 
 namespace clr::cli {
 Command add_train_command(CLI::App& app) {
   struct Options {
-    std::string scene, run_dir, config_file, device, method, is_loss, residual, nee, gemm, preset, preview;
+    std::string scene, run_dir, config_file, device, method, is_loss, residual, nee, gemm, preset, preview, report;
     std::map<std::string, std::string> parameters;
     int sensor = 0;
     int samples = 0, batch = 0;
@@ -97,11 +101,20 @@ Command add_train_command(CLI::App& app) {
   cmd->add_option("--preview-every", opt->preview_every,
                   "Steps between previews (default: --eval-every's, else the checkpoint interval)")
       ->needs(preview_option);
+  cmd->add_option("--report", opt->report,
+                  "At the end, the run's report page (.html, as `clradiosity report` makes it: the model and the path "
+                  "tracer at the run's training time beside --reference)");
   add_device_option(*cmd, opt->device);
   add_scene_parameters_option(*cmd, opt->parameters);
   add_sensor_option(*cmd, opt->sensor);
 
   return {cmd, [opt, cmd]() {
+            if (!opt->report.empty()) {
+              const std::filesystem::path page = opt->report;
+              if (page.extension() != ".html" && page.extension() != ".htm")
+                throw InputError("--report " + opt->report + ": the report must end in .html");
+              require_output_path(page, "--report");
+            }
             radiosity::TrainRequest request;
             request.scene = opt->scene;
             request.parameters = opt->parameters;
@@ -139,9 +152,25 @@ Command add_train_command(CLI::App& app) {
             std::cout << "peak device memory: " << outcome.peak_device_mib << " MiB\n";
             if (outcome.preview_written) std::cout << "preview: " << opt->preview << "\n";
             if (outcome.convergence) std::cout << "convergence: " << outcome.convergence->string() << "\n";
-            if (outcome.side_output_failures > 0)
-              std::cerr << "train: " << outcome.side_output_failures
-                        << " preview, evaluation or figure write(s) failed (reported above); the model and its "
+            // The report is made from the finished run as `report` makes it; like the other side outputs, its
+            // failure costs the training nothing (one warning line, exit 0), and a stopped run gets none.
+            std::size_t failures = outcome.side_output_failures;
+            if (!opt->report.empty() && !stop_requested()) try {
+                report::RunReportOptions options;
+                options.run = opt->run_dir;
+                options.reference = opt->evaluation.reference;
+                options.scene = opt->scene;
+                options.sensor = opt->sensor;
+                options.device = opt->device;
+                write_run_report(options, opt->report);
+              } catch (const std::exception& e) {
+                std::cerr << "train: warning: --report " << opt->report << " failed (" << e.what()
+                          << "); the model and its checkpoint are complete\n";
+                ++failures;
+              }
+            if (failures > 0)
+              std::cerr << "train: " << failures
+                        << " preview, evaluation, figure or report write(s) failed (reported above); the model and its "
                            "checkpoint are complete\n";
             return 0;
           }};

@@ -1,0 +1,46 @@
+#include "report/half_image.hpp"
+
+#include <Imath/half.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace clr::report {
+
+std::string base64(std::string_view bytes) {
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const std::uint32_t v = std::uint32_t(std::uint8_t(bytes[i])) << 16 |
+                            std::uint32_t(std::uint8_t(bytes[i + 1])) << 8 | std::uint32_t(std::uint8_t(bytes[i + 2]));
+    for (int s = 18; s >= 0; s -= 6) out += kAlphabet[(v >> s) & 63];
+  }
+  if (const std::size_t rest = bytes.size() - i; rest > 0) {
+    std::uint32_t v = std::uint32_t(std::uint8_t(bytes[i])) << 16;
+    if (rest == 2) v |= std::uint32_t(std::uint8_t(bytes[i + 1])) << 8;
+    out += kAlphabet[(v >> 18) & 63];
+    out += kAlphabet[(v >> 12) & 63];
+    out += rest == 2 ? kAlphabet[(v >> 6) & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+std::string half_base64(const image::Image& img) {
+  constexpr float kHalfMax = 65504.0f;
+  std::vector<std::uint8_t> bytes(img.rgb.size() * 2);
+  for (std::size_t i = 0; i < img.rgb.size(); ++i) {
+    const float v = img.rgb[i];
+    const Imath::half h(std::isnan(v) ? v : std::clamp(v, -kHalfMax, kHalfMax));
+    const std::uint16_t bits = h.bits();
+    bytes[2 * i] = std::uint8_t(bits & 0xff);  // little-endian, as the page's Uint16Array reads it
+    bytes[2 * i + 1] = std::uint8_t(bits >> 8);
+  }
+  return base64(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
+}  // namespace clr::report
