@@ -21,9 +21,12 @@ const HALF_TABLE = (() => {
 function decodeHalfBase64(text) {
   const bin = atob(text);
   const n = bin.length >> 1;
-  const out = new Float32Array(n);
-  for (let i = 0; i < n; i++) out[i] = HALF_TABLE[bin.charCodeAt(2 * i) | (bin.charCodeAt(2 * i + 1) << 8)];
-  return out;
+  const bits = new Uint16Array(n), values = new Float32Array(n);
+  for (let i = 0; i < n; i++) {
+    bits[i] = bin.charCodeAt(2 * i) | (bin.charCodeAt(2 * i + 1) << 8);
+    values[i] = HALF_TABLE[bits[i]];
+  }
+  return {bits, values};
 }
 
 // Linear to sRGB's transfer curve, as `render --png` tonemaps (clamped, no other operator).
@@ -43,6 +46,12 @@ function errorColour(t) {
   const f = t - i, a = ERROR_RAMP[i], b = ERROR_RAMP[i + 1];
   return [0, 1, 2].map(c => Math.round(a[c] + f * (b[c] - a[c])));
 }
+// The ramp in 1024 steps, so that a map of a large image costs a lookup a pixel.
+const ERROR_LUT = (() => {
+  const t = new Uint8Array(3 * 1025);
+  for (let i = 0; i <= 1024; i++) t.set(errorColour(i / 1024), 3 * i);
+  return t;
+})();
 
 // Per-pixel relative error, the channel mean of |a − b| / (|b| + 0.01): what MAPE averages.
 function relativeError(a, ref) {
@@ -69,8 +78,8 @@ class Viewer {
     this.listeners = [];
     this.panels = [];
     for (const img of images)
-      this.panels.push({key: img.key, title: img.title, notes: img.notes, kind: "hdr",
-                        values: decodeHalfBase64(img.half_rgb)});
+      this.panels.push(Object.assign({key: img.key, title: img.title, notes: img.notes, kind: "hdr"},
+                                     decodeHalfBase64(img.half_rgb)));
     const ref = this.panels.find(p => p.key === referenceKey);
     if (ref)
       for (const p of this.panels.slice())
@@ -126,23 +135,35 @@ class Viewer {
     const data = ctx.createImageData(this.width, this.height);
     const out = data.data, v = p.values, n = this.width * this.height;
     if (p.kind === "hdr") {
-      const k = Math.pow(2, this.exposure);
+      // The values are halves: one table of the 65536 of them at this exposure, then a lookup a value.
+      const lut = this.exposureTable(), b = p.bits;
       for (let i = 0; i < n; i++) {
-        out[4 * i] = srgbByte(v[3 * i] * k);
-        out[4 * i + 1] = srgbByte(v[3 * i + 1] * k);
-        out[4 * i + 2] = srgbByte(v[3 * i + 2] * k);
+        out[4 * i] = lut[b[3 * i]];
+        out[4 * i + 1] = lut[b[3 * i + 1]];
+        out[4 * i + 2] = lut[b[3 * i + 2]];
         out[4 * i + 3] = 255;
       }
     } else {
+      const scale = 1024 / this.errorMax;
       for (let i = 0; i < n; i++) {
-        const c = errorColour(v[i] / this.errorMax);
-        out[4 * i] = c[0];
-        out[4 * i + 1] = c[1];
-        out[4 * i + 2] = c[2];
+        const e = v[i];
+        const j = e >= 0 ? 3 * Math.min(1024, Math.round(e * scale)) : -1;
+        out[4 * i] = j < 0 ? 255 : ERROR_LUT[j];
+        out[4 * i + 1] = j < 0 ? 0 : ERROR_LUT[j + 1];
+        out[4 * i + 2] = j < 0 ? 255 : ERROR_LUT[j + 2];
         out[4 * i + 3] = 255;
       }
     }
     ctx.putImageData(data, 0, 0);
+  }
+  exposureTable() {
+    if (this.lutExposure !== this.exposure) {
+      const k = Math.pow(2, this.exposure);
+      this.lut = new Uint8Array(65536);
+      for (let h = 0; h < 65536; h++) this.lut[h] = srgbByte(HALF_TABLE[h] * k);
+      this.lutExposure = this.exposure;
+    }
+    return this.lut;
   }
   tonemapAll() {
     for (const p of this.panels) this.tonemap(p);

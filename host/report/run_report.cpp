@@ -223,7 +223,10 @@ ReportData run_report(const RunReportOptions& opt) {
   }
 
   record["config"] = config;
-  if (scene_record) record["scene"] = *scene_record;
+  if (scene_record) {
+    if (scene_record->contains("digest")) record["scene digest"] = (*scene_record)["digest"];
+    record["scene"] = *scene_record;
+  }
   if (evaluation) record["evaluation"] = *evaluation;
   record["report made by"] = std::string("clradiosity ") + CLR_VERSION;
   record["report made at"] = now_utc();
