@@ -22,6 +22,7 @@
 #include "cl/device.hpp"
 #include "cl/device_json.hpp"
 #include "cli/failure_message.hpp"
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "common/parallel.hpp"
 #include "common/progress.hpp"
@@ -35,6 +36,8 @@
 #include "radiosity/trainer.hpp"
 #include "radiosity/training_session.hpp"
 #include "reference/path_tracer.hpp"
+#include "report/report_page.hpp"
+#include "report/run_report.hpp"
 #include "scene/fingerprint.hpp"
 
 namespace py = pybind11;
@@ -397,6 +400,49 @@ PYBIND11_MODULE(_clradiosity, m) {
         return d;
       },
       py::arg("image"), py::arg("reference"));
+
+  m.def(
+      "report",
+      [](const std::string& run, const std::string& out, const std::string& reference, const std::string& scene,
+         int spp, bool path_tracer, double path_tracer_seconds, int path_tracer_max_spp, const std::string& device) {
+        report::require_report_path(out, "out");
+        report::RunReportOptions options;
+        options.run = run;
+        options.reference = reference;
+        options.scene = scene;
+        options.spp = spp;
+        options.path_tracer = path_tracer;
+        options.path_tracer_seconds = path_tracer_seconds;
+        options.path_tracer_max_spp = path_tracer_max_spp;
+        options.device = device;
+        report::ReportData data;
+        std::size_t bytes = 0;
+        {
+          py::gil_scoped_release released;
+          data = report::run_report(options);
+          const std::string page = report::report_html(data);
+          write_text_atomically(out, page);
+          bytes = page.size();
+        }
+        py::dict result, images;
+        for (const auto& img : data.images) {
+          py::dict e;
+          e["title"] = img.title;
+          e["notes"] = img.notes;
+          if (img.metrics) {
+            e["mape"] = img.metrics->mape;
+            e["mse"] = img.metrics->mse;
+            e["relmse"] = img.metrics->relmse;
+          }
+          images[py::str(img.key)] = e;
+        }
+        result["path"] = out;
+        result["bytes"] = bytes;
+        result["images"] = images;
+        return result;
+      },
+      py::arg("run"), py::arg("out"), py::arg("reference"), py::arg("scene"), py::arg("spp"), py::arg("path_tracer"),
+      py::arg("path_tracer_seconds"), py::arg("path_tracer_max_spp"), py::arg("device"));
 
   m.def(
       "read_image",

@@ -65,7 +65,7 @@ function lineChart(chart) {
   svgElement("rect", {x: L, y: T, width: W - L - R, height: H - T - B, fill: "none", class: "axis"}, svg);
   series.forEach((s, i) => {
     const colour = s.colour || SERIES_COLOURS[i % SERIES_COLOURS.length];
-    if (!s.markers && s.pts.length > 1)
+    if (s.pts.length > 1)
       svgElement("polyline", {points: s.pts.map(p => `${sx(p[0]).toFixed(1)},${sy(p[1]).toFixed(1)}`).join(" "),
                               fill: "none", stroke: colour, "stroke-width": 1.5}, svg);
     // Points carry their values as a tooltip (hover), thinned to at most 200 a series to keep the page light.

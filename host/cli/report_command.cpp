@@ -63,8 +63,7 @@ Command add_report_command(CLI::App& app) {
 
   return {cmd, [opt]() {
             const std::filesystem::path out = opt->out;
-            if (out.extension() != ".html" && out.extension() != ".htm")
-              throw InputError("-o " + opt->out + ": the report must end in .html");
+            report::require_report_path(out, "-o");
             auto inputs = std::filesystem::is_directory(opt->run_dir)
                               ? radiosity::RunDirectory::input_files(opt->run_dir)
                               : std::vector<std::filesystem::path>{};

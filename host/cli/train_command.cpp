@@ -109,12 +109,7 @@ Command add_train_command(CLI::App& app) {
   add_sensor_option(*cmd, opt->sensor);
 
   return {cmd, [opt, cmd]() {
-            if (!opt->report.empty()) {
-              const std::filesystem::path page = opt->report;
-              if (page.extension() != ".html" && page.extension() != ".htm")
-                throw InputError("--report " + opt->report + ": the report must end in .html");
-              require_output_path(page, "--report");
-            }
+            if (!opt->report.empty()) report::require_report_path(opt->report, "--report");
             radiosity::TrainRequest request;
             request.scene = opt->scene;
             request.parameters = opt->parameters;

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <ctime>
 #include <optional>
 
 #include "cl/context.hpp"
+#include "common/atomic_file.hpp"
 #include "common/digest.hpp"
 #include "common/error.hpp"
 #include "common/input_file.hpp"
@@ -49,32 +51,41 @@ image::Image read_given(const fs::path& file, const std::string& option, const i
   return img;
 }
 
-// The path tracer for about `seconds`: one timed sample a pixel, then the samples that fill the rest of the time
-// at that rate (at most `max_spp` in all), drawn as a longer render draws them (first_sample), so the image is the
-// reference path tracer's of that many samples.
-image::Image path_trace_for(const geometry::Geometry& geometry, int width, int height, double seconds, int max_spp,
-                            std::uint64_t seed, int& spp, double& spent) {
+// The path tracer for about `seconds`, progressively: one timed sample a pixel, then passes that double the
+// samples while the time left allows, and a last pass that fills the rest of it at the measured rate (at most
+// `max_spp` samples in all). Each pass draws what a longer render draws (first_sample), so every image along the way
+// is the reference path tracer's of that many samples, and each is measured against `reference`: the path
+// tracer's error against time for the convergence plot.
+image::Image path_trace_for(const geometry::Geometry& geometry, const image::Image& reference, double seconds,
+                            int max_spp, std::uint64_t seed, std::vector<PathTracerPoint>& points) {
   reference::RenderOptions options;
   options.seed = seed;
-  options.width = width;
-  options.height = height;
+  options.width = reference.width;
+  options.height = reference.height;
   options.max_depth = reference::kWholeTransport;
-  options.spp = 1;
-  reference::RenderStats first;
-  auto img = reference::render(geometry, options, &first);
-  spp = 1;
-  spent = first.seconds;
-  const double rate = first.seconds > 0 ? first.seconds : 1e-3;
-  const int more = std::clamp(int(std::floor(seconds / rate)) - 1, 0, std::max(0, max_spp - 1));
-  if (more > 0) {
-    options.first_sample = 1;
-    options.spp = more;
-    reference::RenderStats rest;
-    const auto tail = reference::render(geometry, options, &rest);
-    for (std::size_t i = 0; i < img.rgb.size(); ++i)
-      img.rgb[i] = float((double(img.rgb[i]) + double(tail.rgb[i]) * more) / double(1 + more));
-    spp += more;
-    spent += rest.seconds;
+  std::vector<double> sum(reference.rgb.size(), 0.0);
+  image::Image img(reference.width, reference.height);
+  int spp = 0;
+  double spent = 0;
+  while (spp < max_spp) {
+    int n = std::max(1, spp);  // doubling
+    if (spp > 0) {
+      const double rate = std::max(spent / spp, 1e-9);
+      if (spent + n * rate > seconds) n = int(std::floor((seconds - spent) / rate));  // the rest of the time
+      if (n < 1) break;
+    }
+    n = std::min(n, max_spp - spp);
+    options.first_sample = spp;
+    options.spp = n;
+    reference::RenderStats stats;
+    const auto pass = reference::render(geometry, options, &stats);
+    spp += n;
+    spent += stats.seconds;
+    for (std::size_t i = 0; i < sum.size(); ++i) {
+      sum[i] += double(pass.rgb[i]) * n;
+      img.rgb[i] = float(sum[i] / spp);
+    }
+    points.push_back({spent, spp, image::compare(img, reference)});
   }
   return img;
 }
@@ -88,8 +99,20 @@ std::string now_utc() {
 
 }  // namespace
 
+void require_report_path(const fs::path& page, const std::string& option) {
+  if (page.extension() != ".html" && page.extension() != ".htm")
+    throw InputError(option + " " + page.string() + ": the report must end in .html");
+  require_output_path(page, option);
+}
+
 ReportData run_report(const RunReportOptions& opt) {
   using radiosity::RunDirectory;
+  // The Python module passes these unchecked by a CLI validator.
+  if (opt.spp < 0 || opt.spp > (1 << 16)) throw InputError("spp " + std::to_string(opt.spp) + " is not in [1, 65536]");
+  if (opt.path_tracer_max_spp < 1 || opt.path_tracer_max_spp > (1 << 20))
+    throw InputError("path tracer max spp " + std::to_string(opt.path_tracer_max_spp) + " is not in [1, 2^20]");
+  if (!std::isfinite(opt.path_tracer_seconds) || opt.path_tracer_seconds < 0)
+    throw InputError("path tracer seconds " + std::to_string(opt.path_tracer_seconds) + " is not finite and >= 0");
   if (!fs::is_directory(opt.run))
     throw InputError(opt.run.string() + (fs::exists(opt.run) ? ": not a folder" : ": no such run folder"));
   ReportData data;
@@ -185,8 +208,6 @@ ReportData run_report(const RunReportOptions& opt) {
     }
     if (render_path_tracer) {
       const double budget = opt.path_tracer_seconds > 0 ? opt.path_tracer_seconds : trained_seconds;
-      int spp = 0;
-      double spent = 0;
       // Another seed than the reference's: the path tracer drawing the reference's own samples would match it
       // exactly and measure nothing.
       std::uint64_t seed = 1;
@@ -194,8 +215,9 @@ ReportData run_report(const RunReportOptions& opt) {
         if (reference_attributes.contains("seed")) seed = std::stoull(reference_attributes["seed"]) + 1;
       } catch (const std::exception&) {
       }
-      path_tracer.image = path_trace_for(geometry, reference.width, reference.height, budget, opt.path_tracer_max_spp,
-                                         seed, spp, spent);
+      path_tracer.image = path_trace_for(geometry, reference, budget, opt.path_tracer_max_spp, seed, data.path_tracer);
+      const int spp = data.path_tracer.back().spp;
+      const double spent = data.path_tracer.back().seconds;
       path_tracer.title = "path tracer, " + std::to_string(spp) + " spp";
       path_tracer.notes = {{"spp", std::to_string(spp)},
                            {"seconds", fixed(spent, 2)},
@@ -210,15 +232,22 @@ ReportData run_report(const RunReportOptions& opt) {
   data.images.push_back({"reference", "reference", reference, {{"file", reference_file.string()}}, std::nullopt});
   if (!path_tracer.image.rgb.empty()) {
     path_tracer.metrics = image::compare(path_tracer.image, reference);
-    // Its point on the convergence plot: the path tracer's error at the seconds it spent.
-    PathTracerPoint point;
-    point.seconds = path_tracer.notes.contains("seconds") ? std::stod(path_tracer.notes["seconds"])
-                    : path_tracer.notes.contains("renderTimeSeconds")
-                        ? std::stod(path_tracer.notes["renderTimeSeconds"])
-                        : trained_seconds;
-    point.spp = path_tracer.notes.contains("spp") ? std::stoi(path_tracer.notes["spp"]) : 0;
-    point.metrics = *path_tracer.metrics;
-    data.path_tracer.push_back(point);
+    // A given image is one point on the convergence plot: the path tracer's error at the seconds it records.
+    if (data.path_tracer.empty()) {
+      // The header's numbers where it has readable ones (an image made elsewhere may carry anything there).
+      const auto number = [&](const char* key, double otherwise) {
+        const auto it = path_tracer.notes.find(key);
+        if (it == path_tracer.notes.end()) return otherwise;
+        char* end = nullptr;
+        const double v = std::strtod(it->second.c_str(), &end);
+        return end != it->second.c_str() && std::isfinite(v) ? v : otherwise;
+      };
+      PathTracerPoint point;
+      point.seconds = number("renderTimeSeconds", trained_seconds);
+      point.spp = int(number("spp", 0));
+      point.metrics = *path_tracer.metrics;
+      data.path_tracer.push_back(point);
+    }
     data.images.push_back(std::move(path_tracer));
   }
 

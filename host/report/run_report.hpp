@@ -28,6 +28,10 @@ struct RunReportOptions {
   std::string device;              // --device for the model's render
 };
 
+// InputError "<option> PATH: …" unless `page` ends in .html (or .htm) and can be written (common/atomic_file.hpp's
+// require_output_path), checked before any work.
+void require_report_path(const std::filesystem::path& page, const std::string& option);
+
 // Everything the page shows of the run. InputError naming the culprit, before any rendering, for a missing run
 // folder, an unreadable config.json or log.csv, a reference that cannot be found or read, and an image of another
 // size than the reference.

@@ -26,7 +26,7 @@ import numpy as np
 from . import _clradiosity as _native
 
 __version__ = _native.__version__
-__all__ = ["devices", "set_threads", "load_scene", "train", "load_run", "reference", "compare", "read_image", "write_image",
+__all__ = ["devices", "set_threads", "load_scene", "train", "load_run", "reference", "compare", "report", "read_image", "write_image",
            "Scene", "Run"]
 
 Scene = _native.Scene
@@ -280,6 +280,18 @@ def compare(image, reference):
     reference an integer multiple of the image's size is box-downsampled to it."""
     return _native.compare(np.ascontiguousarray(image, dtype=np.float32),
                            np.ascontiguousarray(reference, dtype=np.float32))
+
+
+def report(run_dir, out, *, reference=None, scene=None, spp=0, path_tracer=True, path_tracer_seconds=0,
+           path_tracer_max_spp=1024, device=None):
+    """Writes the run's report page ``out`` (.html), as `clradiosity report` does: the model's render, the reference
+    and the path tracer at the run's training time compared in one self-contained page, with its convergence and
+    record. Images are rendered where not given; returns {"path", "bytes", "images": {key: {title, notes, mape, mse,
+    relmse}}}."""
+    return _native.report(os.fspath(run_dir), os.fspath(out), os.fspath(reference) if reference else "",
+                          os.fspath(scene) if scene else "", _integer("spp", spp), bool(path_tracer),
+                          float(path_tracer_seconds), _integer("path_tracer_max_spp", path_tracer_max_spp),
+                          device or "")
 
 
 def read_image(path):

@@ -475,3 +475,22 @@ def test_a_stop_from_a_callback_in_another_thread_is_forgotten(box, tmp_path):
     t.start()
     t.join()
     assert steps == {"first": 2, "second": 5}
+
+
+def test_report_writes_the_page_the_cli_writes(trained, tmp_path):
+    run, _ = trained
+    ref = tmp_path / "ref.exr"
+    cr.write_image(ref, cr.reference(cr.load_scene(BOX, res=32), spp=4, seed=7))
+    page = tmp_path / "run.html"
+    r = cr.report(run.dir, page, reference=ref, spp=1, path_tracer_max_spp=2)
+    assert r["bytes"] == page.stat().st_size
+    assert set(r["images"]) == {"model", "reference", "path_tracer"}
+    assert r["images"]["path_tracer"]["notes"]["spp"] in ("1", "2")
+    # The same metrics as the CLI's page of the same run (the model's render is deterministic).
+    c = cli("report", run.dir, "--reference", ref, "--spp", 1, "--no-path-tracer", "-o", tmp_path / "cli.html")
+    assert c.returncode == 0, c.stderr
+    assert f"MAPE {r['images']['model']['mape']:.6g}" in c.stdout
+    with pytest.raises(ValueError, match="must end in .html"):
+        cr.report(run.dir, tmp_path / "run.png", reference=ref)
+    with pytest.raises(ValueError, match="no such run folder"):
+        cr.report(tmp_path / "none", page, reference=ref)
