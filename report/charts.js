@@ -32,7 +32,8 @@ function lineChart(chart) {
   const usable = (x, y) => Number.isFinite(x) && Number.isFinite(y) && (!chart.logY || y > 0);
   const series = chart.series.map(s => {
     const pts = [];
-    for (let i = 0; i < s.x.length; i++) if (usable(s.x[i], s.y[i])) pts.push([s.x[i], s.y[i]]);
+    for (let i = 0; i < s.x.length; i++)
+      if (usable(s.x[i], s.y[i])) pts.push([s.x[i], s.y[i], s.names ? s.names[i] : s.label]);
     return Object.assign({}, s, {pts});
   }).filter(s => s.pts.length > 0);
   if (series.length === 0) return null;
@@ -67,13 +68,14 @@ function lineChart(chart) {
     const colour = s.colour || SERIES_COLOURS[i % SERIES_COLOURS.length];
     if (s.pts.length > 1)
       svgElement("polyline", {points: s.pts.map(p => `${sx(p[0]).toFixed(1)},${sy(p[1]).toFixed(1)}`).join(" "),
-                              fill: "none", stroke: colour, "stroke-width": 1.5}, svg);
+                              fill: "none", stroke: colour, "stroke-width": s.dashed ? 2.5 : 1.5,
+                              "stroke-dasharray": s.dashed ? "6 4" : "none"}, svg);
     // Points carry their values as a tooltip (hover), thinned to at most 200 a series to keep the page light.
     const every = Math.max(1, Math.ceil(s.pts.length / 200));
     s.pts.forEach((p, j) => {
       if (!s.markers && j % every && j !== s.pts.length - 1) return;
       const c = svgElement("circle", {cx: sx(p[0]), cy: sy(p[1]), r: s.markers ? 5 : 2, fill: colour}, svg);
-      svgElement("title", {}, c).textContent = `${s.label}: ${formatNumber(p[1])} at ${chart.xLabel} ${formatNumber(p[0])}`;
+      svgElement("title", {}, c).textContent = `${p[2]}: ${formatNumber(p[1])} at ${chart.xLabel} ${formatNumber(p[0])}`;
     });
     svgElement("rect", {x: W - R - 130, y: T + 6 + 14 * i, width: 10, height: 10, fill: colour}, svg);
     svgElement("text", {x: W - R - 116, y: T + 15 + 14 * i}, svg).textContent = s.label;

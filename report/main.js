@@ -3,11 +3,14 @@ const DATA = JSON.parse(document.getElementById("clr-data").textContent);
 document.getElementById("title").textContent = DATA.title;
 
 function formatValue(v) {
-  return v === null || v === undefined ? "—" : Number.isFinite(v) ? v.toPrecision(5) : String(v);
+  if (v === null || v === undefined) return "—";
+  if (Number.isInteger(v) && Math.abs(v) < 1e9) return String(v);  // steps, spp: counts read as counts
+  return Number.isFinite(v) ? v.toPrecision(5) : String(v);
 }
 
 // Images.
 let viewer = null;
+if (DATA.images.length === 0) document.getElementById("images").hidden = true;
 if (DATA.images.length > 0) {
   viewer = new Viewer(DATA.images, "reference", document.getElementById("panels"));
   const exposure = document.getElementById("exposure"), exposureValue = document.getElementById("exposure-value");
@@ -83,6 +86,10 @@ if (DATA.images.length > 0) {
 // Convergence: log.csv's columns by name; the log may lack any but `step`.
 (function charts() {
   const root = document.getElementById("charts");
+  if (DATA.log.columns.length === 0) {
+    document.getElementById("convergence").hidden = true;
+    return;
+  }
   const col = name => {
     const i = DATA.log.columns.indexOf(name);
     return i < 0 ? null : DATA.log.values[i].map(v => (v === null ? NaN : v));
@@ -110,6 +117,54 @@ if (DATA.images.length > 0) {
   if (!root.children.length) root.textContent = "log.csv holds no rows to plot.";
 })();
 
+// A sweep: every configuration's error against time (and samples trained on), the path tracer's beside them, and
+// the Pareto front over all of them — the lowest error reached by any configuration within each time.
+(function sweep() {
+  if (!DATA.sweep) return;
+  document.getElementById("sweep").hidden = false;
+  const rows = DATA.sweep.rows.filter(r => r.point !== "steps");
+  const configurations = [...new Set(rows.map(r => r.configuration))];
+  const root = document.getElementById("sweep-charts");
+  for (const [metric, label] of [["mape", "MAPE"], ["relmse", "relMSE"]]) {
+    for (const [xKey, xLabel] of [["seconds", "seconds (training or rendering)"], ["incident_samples", "samples trained on"]]) {
+      const series = configurations.map(c => {
+        const rs = rows.filter(r => r.configuration === c && r[xKey] > 0).sort((a, b) => a[xKey] - b[xKey]);
+        return {label: c, x: rs.map(r => r[xKey]), y: rs.map(r => r[metric])};
+      }).filter(s => s.x.length > 0);
+      if (xKey === "seconds") {
+        // The front: points sorted by time, kept where they beat every earlier point.
+        const pts = rows.filter(r => r.seconds > 0 && r[metric] > 0).sort((a, b) => a.seconds - b.seconds);
+        const front = [];
+        for (const r of pts) if (!front.length || r[metric] < front[front.length - 1][metric]) front.push(r);
+        series.push({label: "Pareto front", x: front.map(r => r.seconds), y: front.map(r => r[metric]),
+                     colour: "#000", dashed: true, names: front.map(r => r.configuration)});
+      }
+      const svg = lineChart({title: label + " against " + xLabel, xLabel, yLabel: label, logY: true, series});
+      if (svg) root.append(svg);
+    }
+  }
+  const table = document.getElementById("sweep-table");
+  const columns = ["configuration", "point", "budget_minutes", "steps", "seconds", "spp", "mape", "mse", "relmse",
+                   "peak_device_mib", "image", "error_map"];
+  const head = table.insertRow();
+  for (const c of columns) head.insertCell().textContent = c.replace(/_/g, " ");
+  for (const r of DATA.sweep.rows) {
+    const row = table.insertRow();
+    for (const c of columns) {
+      const cell = row.insertCell();
+      if (c === "image" || c === "error_map") {
+        if (r[c]) {
+          const img = document.createElement("img");
+          img.src = r[c];
+          img.height = 64;
+          img.title = r.configuration;
+          cell.append(img);
+        }
+      } else cell.textContent = typeof r[c] === "number" ? formatValue(r[c]) : (r[c] === null ? "—" : r[c]);
+    }
+  }
+})();
+
 // The record: what made the run and this report.
 (function record() {
   const root = document.getElementById("record-body");
@@ -119,7 +174,12 @@ if (DATA.images.length > 0) {
     const row = table.insertRow();
     row.insertCell().textContent = k;
     const cell = row.insertCell();
-    if (v !== null && typeof v === "object") {
+    if (typeof v === "string" && v.includes("\n")) {
+      const pre = document.createElement("pre");
+      pre.textContent = v;
+      cell.append(pre);
+      cell.style.textAlign = "left";
+    } else if (v !== null && typeof v === "object") {
       const pre = document.createElement("pre");
       pre.textContent = JSON.stringify(v, null, 2);
       cell.append(pre);

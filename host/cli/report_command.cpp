@@ -11,11 +11,14 @@
 #include "common/error.hpp"
 #include "radiosity/run_directory.hpp"
 #include "report/run_report.hpp"
+#include "report/sweep_report.hpp"
 
 namespace clr::cli {
 
 void write_run_report(const report::RunReportOptions& options, const std::filesystem::path& out) {
-  const auto data = report::run_report(options);
+  // A sweep folder is reported from what the sweep measured; a run folder from its files and the renders it needs.
+  const auto data =
+      report::is_sweep_folder(options.run) ? report::sweep_report(options.run) : report::run_report(options);
   const auto start = std::chrono::steady_clock::now();
   const std::string page = report::report_html(data);
   // Atomically: an interrupted or failed write never leaves a page that looks complete.
@@ -36,7 +39,8 @@ Command add_report_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("report",
                                  "One self-contained HTML page of a run: its images compared with the reference and "
                                  "the path tracer, its convergence, its record");
-  cmd->add_option("run", opt->run_dir, "Run directory written by `train`")->required();
+  cmd->add_option("run", opt->run_dir, "Run directory written by `train`, or a sweep folder written by `sweep`")
+      ->required();
   cmd->add_option("-o", opt->out, "Output page (.html)")->required();
   cmd->add_option("--reference", opt->reference,
                   "The reference EXR (default: TungstenRender.exr beside the run's scene, where the run's "

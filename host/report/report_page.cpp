@@ -88,6 +88,7 @@ std::string report_html(const ReportData& data) {
   for (const auto& p : data.path_tracer)
     j["path_tracer"].push_back({{"seconds", p.seconds}, {"spp", p.spp}, {"metrics", metrics_json(p.metrics)}});
   j["record"] = data.record;
+  j["sweep"] = data.sweep;
 
   std::string page = report_asset("page.html");
   replace_once(page, "<!--CLR_TITLE-->", html_escape(data.title));

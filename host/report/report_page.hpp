@@ -35,6 +35,8 @@ struct ReportData {
   LogTable log;
   std::vector<PathTracerPoint> path_tracer;
   nlohmann::json record = nlohmann::json::object();  // config, scene, device, software: shown as given
+  // A sweep's rows (sweep_report.hpp), drawn as time–error curves with their Pareto front; null for a run.
+  nlohmann::json sweep = nullptr;
 };
 
 // The whole page. Throws std::invalid_argument when the images differ in size (a caller's fault: the report checks

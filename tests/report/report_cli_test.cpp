@@ -98,5 +98,29 @@ TEST_F(ReportCli, BadInputIsOneLineNamingTheCulpritAndLeavesNoPage) {
   EXPECT_THAT(r.err, HasSubstr("must end in .html"));
 }
 
+// A sweep folder is reported from its results.csv: every row, its images embedded, nothing rendered.
+TEST_F(ReportCli, ASweepFolderIsReportedFromItsResults) {
+  const fs::path sweep = dir / "sweep";
+  auto r = run_cli("sweep " + kBox + " -o " + sweep.string() + " --reference " + reference.string() +
+                   " --minutes 0.004 --methods nr --samples 4 --seeds 1 --width 32 --height 32 --config " +
+                   (dir / "small.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const fs::path page = dir / "sweep.html";
+  r = run_cli("report " + sweep.string() + " -o " + page.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string html = read_text(page);
+  for (const char* key : {"\"sweep\":{\"rows\":[", "\"configuration\":\"nr N=4 seed 1\"",
+                          "\"configuration\":\"path tracer\"", "data:image/png;base64,", "\"tables.md\""})
+    EXPECT_NE(html.find(key), std::string::npos) << key;
+
+  // A damaged results.csv is named, and no page is left.
+  std::ofstream(sweep / "results.csv", std::ios::app) << "model,nr,x\n";
+  const fs::path bad = dir / "sweep-bad.html";
+  r = run_cli("report " + sweep.string() + " -o " + bad.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("results.csv"));
+  EXPECT_FALSE(fs::exists(bad));
+}
+
 }  // namespace
 }  // namespace clr::test
