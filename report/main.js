@@ -165,6 +165,32 @@ if (DATA.images.length > 0) {
   }
 })();
 
+// The paper tables: per scene, every run's evaluations against steps, seconds and samples trained on, the path
+// tracer's points beside them against seconds; tables.md (our rows beside the paper's) is in the record below.
+(function paper() {
+  if (!DATA.paper) return;
+  document.getElementById("paper").hidden = false;
+  const root = document.getElementById("paper-scenes");
+  for (const scene of DATA.paper.scenes) {
+    const h = document.createElement("h3");
+    h.textContent = scene.name + (scene.record && scene.record.paper_scene ? " (the paper's " + scene.record.paper_scene + ")" : "");
+    const charts = document.createElement("div");
+    charts.className = "charts";
+    root.append(h, charts);
+    const nulls = a => (a || []).map(v => (v === null ? NaN : v));
+    for (const [xKey, xLabel] of [["step", "step"], ["seconds", "seconds (training; path tracer: rendering)"],
+                                  ["samples", "samples trained on"]]) {
+      const series = scene.runs.filter(r => r.columns[xKey] && r.columns.mape)
+                               .map(r => ({label: r.label, x: nulls(r.columns[xKey]), y: nulls(r.columns.mape)}));
+      if (xKey === "seconds" && scene.path_tracer && scene.path_tracer.seconds)
+        series.push({label: "path tracer", x: nulls(scene.path_tracer.seconds), y: nulls(scene.path_tracer.mape),
+                     colour: "#000", dashed: true});
+      const svg = lineChart({title: "MAPE against " + xKey, xLabel, yLabel: "MAPE", logY: true, series});
+      if (svg) charts.append(svg);
+    }
+  }
+})();
+
 // The record: what made the run and this report.
 (function record() {
   const root = document.getElementById("record-body");

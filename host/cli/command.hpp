@@ -8,7 +8,9 @@
 #include <optional>
 #include <string>
 
-#include "report/run_report.hpp"
+namespace clr::report {
+struct RunReportOptions;  // report/run_report.hpp; declared only, so that the commands need not include the room
+}
 
 namespace clr::cli {
 

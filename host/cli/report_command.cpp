@@ -10,15 +10,18 @@
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "radiosity/run_directory.hpp"
+#include "report/paper_tables_report.hpp"
 #include "report/run_report.hpp"
 #include "report/sweep_report.hpp"
 
 namespace clr::cli {
 
 void write_run_report(const report::RunReportOptions& options, const std::filesystem::path& out) {
-  // A sweep folder is reported from what the sweep measured; a run folder from its files and the renders it needs.
-  const auto data =
-      report::is_sweep_folder(options.run) ? report::sweep_report(options.run) : report::run_report(options);
+  // A sweep or paper-tables folder is reported from what was measured; a run folder from its files and the renders
+  // it needs.
+  const auto data = report::is_sweep_folder(options.run)          ? report::sweep_report(options.run)
+                    : report::is_paper_tables_folder(options.run) ? report::paper_tables_report(options.run)
+                                                                  : report::run_report(options);
   const auto start = std::chrono::steady_clock::now();
   const std::string page = report::report_html(data);
   // Atomically: an interrupted or failed write never leaves a page that looks complete.
@@ -39,7 +42,9 @@ Command add_report_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("report",
                                  "One self-contained HTML page of a run: its images compared with the reference and "
                                  "the path tracer, its convergence, its record");
-  cmd->add_option("run", opt->run_dir, "Run directory written by `train`, or a sweep folder written by `sweep`")
+  cmd->add_option(
+         "run", opt->run_dir,
+         "Run directory written by `train`, a sweep folder (`sweep`) or a paper-tables folder (bench/paper_tables.sh)")
       ->required();
   cmd->add_option("-o", opt->out, "Output page (.html)")->required();
   cmd->add_option("--reference", opt->reference,

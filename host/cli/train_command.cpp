@@ -13,6 +13,7 @@
 #include "common/stop_signal.hpp"
 #include "radiosity/preset.hpp"
 #include "radiosity/training_session.hpp"
+#include "report/run_report.hpp"
 
 namespace clr::cli {
 Command add_train_command(CLI::App& app) {

@@ -28,15 +28,19 @@ std::optional<std::size_t> LogTable::column(const std::string& name) const {
   return std::size_t(it - columns.begin());
 }
 
-LogTable read_log_table(const std::filesystem::path& path) {
-  std::istringstream in(read_input_text(path, "run log"));
+LogTable read_log_table(const std::filesystem::path& path) { return read_csv_table(path, "step", "run's log"); }
+
+LogTable read_csv_table(const std::filesystem::path& path, const std::string& required, const std::string& what) {
+  std::istringstream in(read_input_text(path, what));
   std::string line;
   LogTable table;
-  if (!std::getline(in, line) || line.empty()) throw InputError(path.string() + ": no header line (not a run's log)");
+  if (!std::getline(in, line) || line.empty())
+    throw InputError(path.string() + ": no header line (not a " + what + ")");
   if (line.back() == '\r') line.pop_back();
   table.columns = split(line);
-  if (!table.column("step"))
-    throw InputError(path.string() + ": the header has no 'step' column (not a run's log): " + clip(line));
+  if (!table.column(required))
+    throw InputError(path.string() + ": the header has no '" + required + "' column (not a " + what +
+                     "): " + clip(line));
   table.values.resize(table.columns.size());
   for (long number = 2; std::getline(in, line); ++number) {
     if (!line.empty() && line.back() == '\r') line.pop_back();

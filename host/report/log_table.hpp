@@ -21,5 +21,8 @@ struct LogTable {
 // another field count than the header or a field that is neither empty, a number nor nan; and "PATH: …" when the
 // file has no header or lacks the `step` column every run's log starts with.
 LogTable read_log_table(const std::filesystem::path& path);
+// The same for any numeric CSV file with a header (a path tracer's points.csv): `required` names the column the
+// file must have, `what` what it is for the message.
+LogTable read_csv_table(const std::filesystem::path& path, const std::string& required, const std::string& what);
 
 }  // namespace clr::report

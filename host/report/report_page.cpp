@@ -89,6 +89,7 @@ std::string report_html(const ReportData& data) {
     j["path_tracer"].push_back({{"seconds", p.seconds}, {"spp", p.spp}, {"metrics", metrics_json(p.metrics)}});
   j["record"] = data.record;
   j["sweep"] = data.sweep;
+  j["paper"] = data.paper;
 
   std::string page = report_asset("page.html");
   replace_once(page, "<!--CLR_TITLE-->", html_escape(data.title));

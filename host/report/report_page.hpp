@@ -37,6 +37,8 @@ struct ReportData {
   nlohmann::json record = nlohmann::json::object();  // config, scene, device, software: shown as given
   // A sweep's rows (sweep_report.hpp), drawn as time–error curves with their Pareto front; null for a run.
   nlohmann::json sweep = nullptr;
+  // The paper tables' scenes (paper_tables_report.hpp): each run's evaluations and the path tracer's points.
+  nlohmann::json paper = nullptr;
 };
 
 // The whole page. Throws std::invalid_argument when the images differ in size (a caller's fault: the report checks

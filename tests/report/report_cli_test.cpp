@@ -122,5 +122,29 @@ TEST_F(ReportCli, ASweepFolderIsReportedFromItsResults) {
   EXPECT_FALSE(fs::exists(bad));
 }
 
+// A paper-tables folder (bench/paper_tables.sh's layout) is reported from its runs' logs and the path tracer's
+// points, tables.md as its record.
+TEST_F(ReportCli, APaperTablesFolderIsReportedFromItsRunsAndPoints) {
+  const fs::path tables = dir / "paper";
+  fs::create_directories(tables / "runs" / "box");
+  fs::create_directories(tables / "path_tracer" / "box");
+  fs::copy(run, tables / "runs" / "box" / "t1-nr");
+  std::ofstream(tables / "runs" / "box" / "scene.json") << R"({"paper_scene": "", "width": 32, "height": 32})";
+  std::ofstream(tables / "path_tracer" / "box" / "points.csv") << "spp,seconds,mape,mse,relmse\n1,0.01,0.7,0.3,0.5\n";
+  std::ofstream(tables / "tables.md") << "# The paper's tables, regenerated\n";
+  const fs::path page = dir / "paper.html";
+  auto r = run_cli("report " + tables.string() + " -o " + page.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string html = read_text(page);
+  for (const char* key : {"\"paper\":{\"scenes\":[", "\"label\":\"t1-nr\"", "\"path_tracer\":{\"mape\":[0.7]",
+                          "# The paper's tables, regenerated"})
+    EXPECT_NE(html.find(key), std::string::npos) << key;
+
+  std::ofstream(tables / "path_tracer" / "box" / "points.csv", std::ios::app) << "2,x,0.5,0.2,0.4\n";
+  r = run_cli("report " + tables.string() + " -o " + page.string() + ".bad.html");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("points.csv:3: seconds 'x' is not a number"));
+}
+
 }  // namespace
 }  // namespace clr::test
