@@ -117,6 +117,64 @@ if (DATA.images.length > 0) {
   if (!root.children.length) root.textContent = "log.csv holds no rows to plot.";
 })();
 
+// The guide (ISNR runs): the lobes and their target at the precomputed pixel nearest to a click.
+(function guide() {
+  if (!DATA.guide || !viewer) return;
+  document.getElementById("guide").hidden = false;
+  const g = DATA.guide, info = document.getElementById("guide-info"), maps = document.getElementById("guide-maps");
+  const views = g.views.map(v => Object.assign({}, v, {qv: decodeHalfBase64(v.q).values,
+                                                     tv: decodeHalfBase64(v.target).values}));
+  function mapCanvas(values, lo, hi) {
+    const c = document.createElement("canvas");
+    c.width = g.width;
+    c.height = g.height;
+    c.style.width = 4 * g.width + "px";
+    c.style.imageRendering = "pixelated";
+    const ctx = c.getContext("2d"), data = ctx.createImageData(g.width, g.height);
+    for (let i = 0; i < values.length; i++) {
+      const v = values[i];
+      // Below the scale's four decades: its lowest colour; zero (no light, no lobe): black.
+      const col = v > 0 ? errorColour(Math.max(0, (Math.log10(v) - lo) / (hi - lo))) : [0, 0, 0];
+      data.data.set([col[0], col[1], col[2], 255], 4 * i);
+    }
+    ctx.putImageData(data, 0, 0);
+    return c;
+  }
+  function show(view) {
+    let max = 0;
+    for (const a of [view.qv, view.tv]) for (const v of a) if (v > max) max = v;
+    const hi = Math.log10(max || 1), lo = hi - 4;
+    maps.textContent = "";
+    const figure = (values, caption) => {
+      const f = document.createElement("figure");
+      f.style.display = "inline-block";
+      f.style.margin = "0 1em 0 0";
+      const c = document.createElement("figcaption");
+      c.textContent = caption;
+      f.append(mapCanvas(values, lo, hi), c);
+      return f;
+    };
+    maps.append(figure(view.qv, "q: the I-Module's 8 vMF lobes"), figure(view.tv, "target p (L_i from the N-Module)"));
+    info.dataset.x = view.x;
+    info.dataset.y = view.y;
+    info.textContent = `pixel (${view.x}, ${view.y}): KL(p‖q) ${formatValue(view.kl)}; densities per steradian ` +
+                       `${formatValue(Math.pow(10, lo))} … ${formatValue(max)}`;
+  }
+  for (const p of viewer.panels)
+    p.canvas.addEventListener("click", ev => {
+      const px = viewer.pixelAt(p.canvas, ev.offsetX, ev.offsetY);
+      if (!px || !views.length) return;
+      let best = views[0], d = Infinity;
+      for (const v of views) {
+        const dv = (v.x - px[0]) ** 2 + (v.y - px[1]) ** 2;
+        if (dv < d) { d = dv; best = v; }
+      }
+      show(best);
+    });
+  if (views.length) show(views[Math.floor(views.length / 2)]);
+  else info.textContent = "no precomputed pixel sees a surface the model learns";
+})();
+
 // A sweep: every configuration's error against time (and samples trained on), the path tracer's beside them, and
 // the Pareto front over all of them — the lowest error reached by any configuration within each time.
 (function sweep() {

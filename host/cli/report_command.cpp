@@ -67,6 +67,13 @@ Command add_report_command(CLI::App& app) {
   cmd->add_option("--path-tracer-max-spp", opt->run.path_tracer_max_spp,
                   "At most this many samples a pixel for the path tracer (default 1024)")
       ->check(CLI::Range(1, 1 << 20));
+  cmd->add_option("--guide-grid", opt->run.guide_grid,
+                  "ISNR runs: the I-Module's lobes beside their target at G x G pixels, precomputed (default 6; 0: "
+                  "none)")
+      ->check(CLI::Range(0, 64));
+  cmd->add_option("--guide-resolution", opt->run.guide_resolution,
+                  "Rows of each guide map (twice as many columns; default 32)")
+      ->check(CLI::Range(8, 2048));
   add_device_option(*cmd, opt->run.device);
   add_sensor_option(*cmd, opt->run.sensor);
 

@@ -30,11 +30,13 @@ std::string base64(std::string_view bytes) {
   return out;
 }
 
-std::string half_base64(const image::Image& img) {
+namespace {
+
+std::string halves(const float* values, std::size_t count, std::size_t stride) {
   constexpr float kHalfMax = 65504.0f;
-  std::vector<std::uint8_t> bytes(img.rgb.size() * 2);
-  for (std::size_t i = 0; i < img.rgb.size(); ++i) {
-    const float v = img.rgb[i];
+  std::vector<std::uint8_t> bytes(count * 2);
+  for (std::size_t i = 0; i < count; ++i) {
+    const float v = values[i * stride];
     const Imath::half h(std::isnan(v) ? v : std::clamp(v, -kHalfMax, kHalfMax));
     const std::uint16_t bits = h.bits();
     bytes[2 * i] = std::uint8_t(bits & 0xff);  // little-endian, as the page's Uint16Array reads it
@@ -42,5 +44,11 @@ std::string half_base64(const image::Image& img) {
   }
   return base64(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
+
+}  // namespace
+
+std::string half_base64(const image::Image& img) { return halves(img.rgb.data(), img.rgb.size(), 1); }
+
+std::string half_base64_red(const image::Image& img) { return halves(img.rgb.data(), img.rgb.size() / 3, 3); }
 
 }  // namespace clr::report

@@ -14,5 +14,7 @@ std::string base64(std::string_view bytes);
 // The image's row-major RGB values as halves in base64. Values beyond the half range (±65504) are clamped to it,
 // so that a bright pixel reads as bright rather than infinite; NaN stays NaN.
 std::string half_base64(const image::Image& img);
+// The image's red channel alone (a single-channel map kept in an Image), as half_base64 encodes it.
+std::string half_base64_red(const image::Image& img);
 
 }  // namespace clr::report

@@ -90,6 +90,18 @@ std::string report_html(const ReportData& data) {
   j["record"] = data.record;
   j["sweep"] = data.sweep;
   j["paper"] = data.paper;
+  j["guide"] = nullptr;
+  if (!data.guide.empty()) {
+    j["guide"] = {{"width", data.guide.front().q.width},
+                  {"height", data.guide.front().q.height},
+                  {"views", nlohmann::json::array()}};
+    for (const auto& v : data.guide)
+      j["guide"]["views"].push_back({{"x", v.x},
+                                     {"y", v.y},
+                                     {"kl", std::isfinite(v.kl) ? nlohmann::json(v.kl) : nlohmann::json(nullptr)},
+                                     {"q", half_base64_red(v.q)},
+                                     {"target", half_base64_red(v.target)}});
+  }
 
   std::string page = report_asset("page.html");
   replace_once(page, "<!--CLR_TITLE-->", html_escape(data.title));

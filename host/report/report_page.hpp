@@ -39,6 +39,13 @@ struct ReportData {
   nlohmann::json sweep = nullptr;
   // The paper tables' scenes (paper_tables_report.hpp): each run's evaluations and the path tracer's points.
   nlohmann::json paper = nullptr;
+  // The guide at a grid of pixels (run_report.hpp): per pixel the mixture q and its target as lat-long maps.
+  struct GuideView {
+    int x = 0, y = 0;        // the pixel, in the images' size
+    double kl = 0;           // KL(p‖q)
+    image::Image q, target;  // densities per steradian in the red channel (radiosity::GuideView)
+  };
+  std::vector<GuideView> guide;
 };
 
 // The whole page. Throws std::invalid_argument when the images differ in size (a caller's fault: the report checks

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <ctime>
+#include <memory>
 #include <optional>
 
 #include "cl/context.hpp"
@@ -14,6 +15,7 @@
 #include "common/input_file.hpp"
 #include "geometry/geometry.hpp"
 #include "radiosity/convergence.hpp"
+#include "radiosity/guide/guide_view.hpp"
 #include "radiosity/run_directory.hpp"
 #include "radiosity/trained_model.hpp"
 #include "reference/path_tracer.hpp"
@@ -108,6 +110,10 @@ void require_report_path(const fs::path& page, const std::string& option) {
 ReportData run_report(const RunReportOptions& opt) {
   using radiosity::RunDirectory;
   // The Python module passes these unchecked by a CLI validator.
+  if (opt.guide_grid < 0 || opt.guide_grid > 64)
+    throw InputError("guide grid " + std::to_string(opt.guide_grid) + " is not in [0, 64]");
+  if (opt.guide_resolution < 8 || opt.guide_resolution > 2048)
+    throw InputError("guide resolution " + std::to_string(opt.guide_resolution) + " is not in [8, 2048]");
   if (opt.spp < 0 || opt.spp > (1 << 16)) throw InputError("spp " + std::to_string(opt.spp) + " is not in [1, 65536]");
   if (opt.path_tracer_max_spp < 1 || opt.path_tracer_max_spp > (1 << 20))
     throw InputError("path tracer max spp " + std::to_string(opt.path_tracer_max_spp) + " is not in [1, 2^20]");
@@ -176,6 +182,7 @@ ReportData run_report(const RunReportOptions& opt) {
   if (!opt.path_tracer_image.empty())
     path_tracer.image = read_given(opt.path_tracer_image, "--path-tracer-image", reference, path_tracer.notes);
   const bool render_model = opt.model_image.empty();
+  const bool guide_grid = opt.guide_grid > 0 && train_config.method == radiosity::Method::Isnr;
   const bool render_path_tracer = opt.path_tracer_image.empty() && opt.path_tracer;
 
   nlohmann::json record;
@@ -184,27 +191,47 @@ ReportData run_report(const RunReportOptions& opt) {
   record["training seconds"] = trained_seconds;
   record["reference"] = reference_file.string();
   if (reference_attributes.contains("spp")) record["reference spp"] = reference_attributes["spp"];
-  if (render_model || render_path_tracer) {
+  if (render_model || render_path_tracer || guide_grid) {
     if (scene_file.empty())
       throw InputError(opt.run.string() + ": the run records no scene (scene.json) to render it with: give --scene");
     const auto scene = scene::load_scene(scene_file, parameters, opt.sensor);
     RunDirectory::require_scene(opt.run, scene::fingerprint(scene));
     const geometry::Geometry geometry(scene);
     // The model at the reference's size, as `train --reference` evaluates it (its spp and image mode where recorded).
+    std::optional<cl::Context> ctx;
+    std::unique_ptr<nn::Network> network;
+    if (render_model || guide_grid) {
+      const auto device = cl::select_device(opt.device);
+      ctx.emplace(device);
+      network = RunDirectory::load_radiance(*ctx, opt.run);
+      record["device"] = device.name;
+    }
     if (render_model) {
       int spp = opt.spp;
       if (spp == 0 && evaluation && evaluation->contains("spp")) spp = (*evaluation)["spp"].get<int>();
       if (spp == 0) spp = radiosity::RenderSettings{}.spp;
       const auto mode = evaluation && evaluation->value("mode", "lhs") == "rhs" ? radiosity::RenderMode::rhs
                                                                                 : radiosity::RenderMode::lhs;
-      const auto device = cl::select_device(opt.device);
-      cl::Context ctx(device);
-      auto network = RunDirectory::load_radiance(ctx, opt.run);
       const auto e =
-          radiosity::evaluate_model(geometry, radiosity::radiance_query(ctx, *network), reference, spp, mode);
+          radiosity::evaluate_model(geometry, radiosity::radiance_query(*ctx, *network), reference, spp, mode);
       model.image = e.image;
       model.notes = {{"spp", std::to_string(spp)}, {"render seconds", fixed(e.render_seconds, 3)}};
-      record["device"] = device.name;
+    }
+    // The guide at a grid of pixel centres, as `guide --pixel` computes it; a pixel whose ray meets no surface the
+    // model learns is left out.
+    if (guide_grid) {
+      auto guide = RunDirectory::load_guide(*ctx, opt.run);
+      for (int gy = 0; gy < opt.guide_grid; ++gy)
+        for (int gx = 0; gx < opt.guide_grid; ++gx) {
+          const int x = (2 * gx + 1) * reference.width / (2 * opt.guide_grid);
+          const int y = (2 * gy + 1) * reference.height / (2 * opt.guide_grid);
+          try {
+            auto v = radiosity::view_guide(*ctx, geometry, *network, *guide, float(x) + 0.5f, float(y) + 0.5f,
+                                           reference.width, reference.height, opt.guide_resolution);
+            data.guide.push_back({x, y, v.kl, std::move(v.q), std::move(v.target)});
+          } catch (const InputError&) {
+          }
+        }
     }
     if (render_path_tracer) {
       const double budget = opt.path_tracer_seconds > 0 ? opt.path_tracer_seconds : trained_seconds;

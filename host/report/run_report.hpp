@@ -26,6 +26,10 @@ struct RunReportOptions {
   double path_tracer_seconds = 0;  // its time budget; 0: the run's training seconds
   int path_tracer_max_spp = 1024;  // and a cap on its samples, so that a long run's report stays cheap
   std::string device;              // --device for the model's render
+  // ISNR runs: the I-Module's mixture beside its target (radiosity::view_guide, what `guide` shows) at a grid of
+  // guide_grid × guide_grid pixels, precomputed so that the page needs no engine; 0: none.
+  int guide_grid = 6;
+  int guide_resolution = 32;  // rows of each lat-long map (twice as many columns)
 };
 
 // InputError "<option> PATH: …" unless `page` ends in .html (or .htm) and can be written (common/atomic_file.hpp's

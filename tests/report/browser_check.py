@@ -95,6 +95,11 @@ class WebDriver:
             "actions": [{"type": "pointerMove", "duration": 0, "origin": {self.ELEMENT: element},
                          "x": dx, "y": dy}]}]})
 
+    def click(self):
+        self.command("POST", "/actions", {"actions": [{
+            "type": "pointer", "id": "mouse", "parameters": {"pointerType": "mouse"},
+            "actions": [{"type": "pointerDown", "button": 0}, {"type": "pointerUp", "button": 0}]}]})
+
     def key(self, k):
         self.command("POST", "/actions", {"actions": [{
             "type": "key", "id": "keyboard", "actions": [{"type": "keyDown", "value": k},
@@ -128,11 +133,12 @@ def main():
             "width": 32, "hidden_layers": 2, "encoder": {"grid": {"levels": 4, "log2_table": 12}}}}, f)
     t = time.time()
     run(cli, "reference", scene, "--spp", 4, "--width", 32, "--height", 32, "-o", ref)
-    run(cli, "train", scene, "--method", "nr", "--steps", 10, "--config", config, "--reference", ref,
+    run(cli, "train", scene, "--method", "isnr", "--steps", 10, "--config", config, "--reference", ref,
         "--eval-every", 5, "--eval-spp", 1, "-o", run_dir)
     run(cli, "render", scene, "--model", run_dir, "--width", 32, "--height", 32, "--spp", 1, "-o", model)
     page = f"{out}/report.html"
-    run(cli, "report", run_dir, "--reference", ref, "--model-image", model, "--path-tracer-max-spp", 2, "-o", page)
+    run(cli, "report", run_dir, "--reference", ref, "--model-image", model, "--path-tracer-max-spp", 2,
+        "--guide-grid", 2, "--guide-resolution", 16, "-o", page)
     print(f"report made in {time.time() - t:.1f} s")
 
     wd = WebDriver(driver, browser)
@@ -178,6 +184,14 @@ def main():
         assert shown(first[0]) != shown(second[0]), "flipping showed the same picture"
         wd.key("m")  # back to side by side for the screenshot
         assert len(wd.script(visible)) > 2
+
+        # The guide: a click shows the lobes at the precomputed pixel nearest to it (a 2 x 2 grid: 8 and 24).
+        canvas = wd.element("canvas[data-key=model]")
+        wd.move_to(canvas, int((22 + 0.5) * scale - size[0] / 2), int((25 + 0.5) * scale - size[1] / 2))
+        wd.click()
+        guide = wd.script("const d = document.getElementById('guide-info').dataset; return [Number(d.x), Number(d.y),"
+                          " document.querySelectorAll('#guide-maps canvas').length]")
+        assert guide == [24, 24, 2], f"the guide after a click at (22, 25): {guide}"
 
         errors = [e for e in wd.console() if e.get("level") == "SEVERE"]
         assert not errors, f"console errors: {errors}"
