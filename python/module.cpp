@@ -36,8 +36,7 @@
 #include "radiosity/trainer.hpp"
 #include "radiosity/training_session.hpp"
 #include "reference/path_tracer.hpp"
-#include "report/report_page.hpp"
-#include "report/run_report.hpp"
+#include "report/folder_report.hpp"
 #include "scene/fingerprint.hpp"
 
 namespace py = pybind11;
@@ -404,7 +403,8 @@ PYBIND11_MODULE(_clradiosity, m) {
   m.def(
       "report",
       [](const std::string& run, const std::string& out, const std::string& reference, const std::string& scene,
-         int spp, bool path_tracer, double path_tracer_seconds, int path_tracer_max_spp, const std::string& device) {
+         int spp, bool path_tracer, double path_tracer_seconds, int path_tracer_max_spp, const std::string& device,
+         int guide_grid, int guide_resolution) {
         report::require_report_path(out, "out");
         report::RunReportOptions options;
         options.run = run;
@@ -415,11 +415,13 @@ PYBIND11_MODULE(_clradiosity, m) {
         options.path_tracer_seconds = path_tracer_seconds;
         options.path_tracer_max_spp = path_tracer_max_spp;
         options.device = device;
+        options.guide_grid = guide_grid;
+        options.guide_resolution = guide_resolution;
         report::ReportData data;
         std::size_t bytes = 0;
         {
           py::gil_scoped_release released;
-          data = report::run_report(options);
+          data = report::folder_report(options);
           const std::string page = report::report_html(data);
           write_text_atomically(out, page);
           bytes = page.size();
@@ -442,7 +444,8 @@ PYBIND11_MODULE(_clradiosity, m) {
         return result;
       },
       py::arg("run"), py::arg("out"), py::arg("reference"), py::arg("scene"), py::arg("spp"), py::arg("path_tracer"),
-      py::arg("path_tracer_seconds"), py::arg("path_tracer_max_spp"), py::arg("device"));
+      py::arg("path_tracer_seconds"), py::arg("path_tracer_max_spp"), py::arg("device"), py::arg("guide_grid"),
+      py::arg("guide_resolution"));
 
   m.def(
       "read_image",

@@ -10,18 +10,12 @@
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "radiosity/run_directory.hpp"
-#include "report/paper_tables_report.hpp"
-#include "report/run_report.hpp"
-#include "report/sweep_report.hpp"
+#include "report/folder_report.hpp"
 
 namespace clr::cli {
 
 void write_run_report(const report::RunReportOptions& options, const std::filesystem::path& out) {
-  // A sweep or paper-tables folder is reported from what was measured; a run folder from its files and the renders
-  // it needs.
-  const auto data = report::is_sweep_folder(options.run)          ? report::sweep_report(options.run)
-                    : report::is_paper_tables_folder(options.run) ? report::paper_tables_report(options.run)
-                                                                  : report::run_report(options);
+  const auto data = report::folder_report(options);
   const auto start = std::chrono::steady_clock::now();
   const std::string page = report::report_html(data);
   // Atomically: an interrupted or failed write never leaves a page that looks complete.

@@ -283,15 +283,16 @@ def compare(image, reference):
 
 
 def report(run_dir, out, *, reference=None, scene=None, spp=0, path_tracer=True, path_tracer_seconds=0,
-           path_tracer_max_spp=1024, device=None):
+           path_tracer_max_spp=1024, guide_grid=6, guide_resolution=32, device=None):
     """Writes the run's report page ``out`` (.html), as `clradiosity report` does: the model's render, the reference
     and the path tracer at the run's training time compared in one self-contained page, with its convergence and
-    record. Images are rendered where not given; returns {"path", "bytes", "images": {key: {title, notes, mape, mse,
+    record (an ISNR run's guide at guide_grid x guide_grid pixels). Images are rendered where not given; returns {"path", "bytes", "images": {key: {title, notes, mape, mse,
     relmse}}}."""
     return _native.report(os.fspath(run_dir), os.fspath(out), os.fspath(reference) if reference else "",
                           os.fspath(scene) if scene else "", _integer("spp", spp), bool(path_tracer),
                           float(path_tracer_seconds), _integer("path_tracer_max_spp", path_tracer_max_spp),
-                          device or "")
+                          device or "", _integer("guide_grid", guide_grid),
+                          _integer("guide_resolution", guide_resolution))
 
 
 def read_image(path):
