@@ -200,6 +200,9 @@ ReportData run_report(const RunReportOptions& opt) {
       throw InputError(opt.run.string() + ": the run records no scene (scene.json) to render it with: give --scene");
     const auto scene = scene::load_scene(scene_file, parameters, opt.sensor);
     RunDirectory::require_scene(opt.run, scene::fingerprint(scene));
+    // The model and the path tracer are rendered with the scene's camera at the reference's size: a reference of
+    // another aspect ratio, scene or sensor is refused as `train --reference` refuses it.
+    radiosity::read_evaluation_reference(reference_file, scene, opt.sensor);
     const geometry::Geometry geometry(scene);
     // The model at the reference's size, as `train --reference` evaluates it (its spp and image mode where recorded).
     std::optional<cl::Context> ctx;

@@ -90,12 +90,29 @@ TEST_F(ReportCli, BadInputIsOneLineNamingTheCulpritAndLeavesNoPage) {
   image::write_exr(dir / "small.exr", small);
   expect_refused(run.string() + " --reference " + reference.string() + " --model-image " + (dir / "small.exr").string(),
                  "--model-image " + (dir / "small.exr").string() + ": 16x16, but the reference is 32x32");
+  // A reference whose shape is not the film's: the model would be rendered through another view.
+  image::Image wide(32, 16);
+  wide.rgb.assign(wide.rgb.size(), 0.5f);
+  image::write_exr(dir / "wide.exr", wide);
+  expect_refused(run.string() + " --reference " + (dir / "wide.exr").string(),
+                 "32x16 is not the shape of the scene's film");
   // No reference given, and none recorded beside the scene.
   expect_refused(run.string(), "give --reference");
   // Not a page.
   const auto r = run_cli("report " + run.string() + " -o " + (dir / "x.png").string());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("must end in .html"));
+}
+
+// train --report writes the page at the end of the run, against its --reference.
+TEST_F(ReportCli, TrainWritesTheReportAtTheEnd) {
+  const fs::path page = dir / "trained.html";
+  const auto r =
+      run_cli("train " + kBox + " --method nr --steps 5 --config " + (dir / "small.json").string() + " --reference " +
+              reference.string() + " -o " + (dir / "run2").string() + " --report " + page.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("report: " + page.string()));
+  EXPECT_NE(read_text(page).find("\"key\":\"path_tracer\""), std::string::npos);
 }
 
 // A sweep folder is reported from its results.csv: every row, its images embedded, nothing rendered.
