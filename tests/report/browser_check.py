@@ -100,6 +100,12 @@ class WebDriver:
             "type": "pointer", "id": "mouse", "parameters": {"pointerType": "mouse"},
             "actions": [{"type": "pointerDown", "button": 0}, {"type": "pointerUp", "button": 0}]}]})
 
+    def wheel(self, element, delta_y):
+        self.command("POST", "/actions", {"actions": [{
+            "type": "wheel", "id": "wheel",
+            "actions": [{"type": "scroll", "x": 0, "y": 0, "deltaX": 0, "deltaY": delta_y,
+                         "origin": {self.ELEMENT: element}}]}]})
+
     def key(self, k):
         self.command("POST", "/actions", {"actions": [{
             "type": "key", "id": "keyboard", "actions": [{"type": "keyDown", "value": k},
@@ -192,6 +198,15 @@ def main():
         guide = wd.script("const d = document.getElementById('guide-info').dataset; return [Number(d.x), Number(d.y),"
                           " document.querySelectorAll('#guide-maps canvas').length]")
         assert guide == [24, 24, 2], f"the guide after a click at (22, 25): {guide}"
+
+        # Zoom is one for every canvas: the wheel over the model zooms the reference in step.
+        pictures = "return [...document.querySelectorAll('.panel canvas')].map(c => c.toDataURL())"
+        before = wd.script(pictures)
+        wd.wheel(wd.element("canvas[data-key=model]"), -300)
+        after = wd.script(pictures)
+        zoom = wd.script("return clrReport.viewer.zoom")
+        assert zoom > 1 and all(a != b for a, b in zip(before, after)), f"zoom {zoom}: not every canvas changed"
+        wd.key("r")
 
         errors = [e for e in wd.console() if e.get("level") == "SEVERE"]
         assert not errors, f"console errors: {errors}"
