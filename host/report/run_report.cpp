@@ -118,7 +118,8 @@ ReportData run_report(const RunReportOptions& opt) {
     throw InputError("guide grid " + std::to_string(opt.guide_grid) + " is not in [0, 64]");
   if (opt.guide_resolution < 8 || opt.guide_resolution > 2048)
     throw InputError("guide resolution " + std::to_string(opt.guide_resolution) + " is not in [8, 2048]");
-  if (opt.spp < 0 || opt.spp > (1 << 16)) throw InputError("spp " + std::to_string(opt.spp) + " is not in [1, 65536]");
+  if (opt.spp < 0 || opt.spp > (1 << 16))
+    throw InputError("spp " + std::to_string(opt.spp) + " is not in [0, 65536] (0: the run's)");
   if (opt.path_tracer_max_spp < 1 || opt.path_tracer_max_spp > (1 << 20))
     throw InputError("path tracer max spp " + std::to_string(opt.path_tracer_max_spp) + " is not in [1, 2^20]");
   if (!std::isfinite(opt.path_tracer_seconds) || opt.path_tracer_seconds < 0)
@@ -153,10 +154,6 @@ ReportData run_report(const RunReportOptions& opt) {
       for (const auto& [k, v] : (*scene_record)["parameters"].items())
         if (v.is_string()) parameters[k] = v.get<std::string>();
   }
-
-  if (opt.scene.empty() && !scene_file.empty() && !fs::exists(scene_file))
-    throw InputError(opt.run.string() + ": its scene " + scene_file.string() +
-                     " (as scene.json records it) is not found from here: give --scene SCENE.xml");
 
   // The reference: given, else what the run recorded measuring against.
   fs::path reference_file = opt.reference;
@@ -198,6 +195,9 @@ ReportData run_report(const RunReportOptions& opt) {
   if (render_model || render_path_tracer || guide_grid) {
     if (scene_file.empty())
       throw InputError(opt.run.string() + ": the run records no scene (scene.json) to render it with: give --scene");
+    if (opt.scene.empty() && !fs::exists(scene_file))
+      throw InputError(opt.run.string() + ": its scene " + scene_file.string() +
+                       " (as scene.json records it) is not found from here: give --scene SCENE.xml");
     const auto scene = scene::load_scene(scene_file, parameters, opt.sensor);
     RunDirectory::require_scene(opt.run, scene::fingerprint(scene));
     // The model and the path tracer are rendered with the scene's camera at the reference's size: a reference of
@@ -291,6 +291,9 @@ ReportData run_report(const RunReportOptions& opt) {
     record["scene"] = *scene_record;
   }
   if (evaluation) record["evaluation"] = *evaluation;
+  // bench/paper_tables.sh records each run's peak device memory beside it (train prints it; the run keeps no copy).
+  if (fs::is_regular_file(opt.run / "run.json"))
+    record["run.json"] = read_json_file(opt.run / "run.json", "run record");
   record["report made by"] = std::string("clradiosity ") + CLR_VERSION + " (commit " + build_commit() + ")";
   record["report made at"] = now_utc();
   data.record = std::move(record);
