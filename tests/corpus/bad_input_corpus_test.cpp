@@ -370,6 +370,14 @@ const std::vector<Case>& cases() {
       {"run_config_malformed", "train '{box}' --resume --steps 1 -o '{t}/malformed_config_run'", 2,
        "malformed JSON in run config"},
       {"run_log_nan", "train '{box}' --resume --steps 1 -o '{t}/nan_log_run'", 2, "log.csv:2: the seconds column"},
+      // A report reads the same run files, and names the one at fault before anything is rendered.
+      {"report_no_run", "report '{t}/no_such_run' -o '{t}/r.html'", 2, "no_such_run: no such run folder"},
+      {"report_config_fifo", "report '{t}/fifo_config_run' -o '{t}/r.html'", 2, "not a regular file"},
+      {"report_config_malformed", "report '{t}/malformed_config_run' -o '{t}/r.html'", 2,
+       "malformed JSON in run config"},
+      {"report_log_fields", "report '{t}/nan_log_run' -o '{t}/r.html'", 2,
+       "log.csv:2: 3 fields where the header names 2"},
+      {"report_not_html", "report '{t}/nan_log_run' -o '{t}/r.png'", 2, "the report must end in .html"},
       // An output is never one of the command's inputs, nor another output: by identity, links followed. (An input
       // named as an image output without an image's extension is refused for the extension, first.)
       {"output_is_scene", "reference '{t}/box_copy.xml' --spp 1 -o '{t}/box_copy.xml'", 2,
