@@ -1,6 +1,13 @@
 // The report page's start: reads the embedded data and builds the viewer, the metrics, the charts and the record.
+// The images are inflated first (asynchronously); when everything is built, window.clrReport is set and
+// <body data-ready> says so (what the browser test waits for).
 const DATA = JSON.parse(document.getElementById("clr-data").textContent);
 document.getElementById("title").textContent = DATA.title;
+
+(async function main() {
+await Promise.all(DATA.images.map(async img => { img.decoded = await decodeHalves(img.half_rgb); }));
+const guideViews = DATA.guide ? await Promise.all(DATA.guide.views.map(async v =>
+    Object.assign({}, v, {qv: (await decodeHalves(v.q)).values, tv: (await decodeHalves(v.target)).values}))) : [];
 
 function formatValue(v) {
   if (v === null || v === undefined) return "—";
@@ -122,8 +129,7 @@ if (DATA.images.length > 0) {
   if (!DATA.guide || !viewer) return;
   document.getElementById("guide").hidden = false;
   const g = DATA.guide, info = document.getElementById("guide-info"), maps = document.getElementById("guide-maps");
-  const views = g.views.map(v => Object.assign({}, v, {qv: decodeHalfBase64(v.q).values,
-                                                     tv: decodeHalfBase64(v.target).values}));
+  const views = guideViews;
   function mapCanvas(values, lo, hi) {
     const c = document.createElement("canvas");
     c.width = g.width;
@@ -275,3 +281,8 @@ if (DATA.images.length > 0) {
 
 // For tests and the console: the viewer and the data.
 window.clrReport = {viewer, data: DATA};
+document.body.dataset.ready = "1";
+})().catch(e => {
+  document.getElementById("title").textContent += " — the page could not be built: " + e;
+  throw e;
+});

@@ -12,18 +12,24 @@ function halfToFloat(h) {
   return s * (1 + f / 1024) * Math.pow(2, e - 15);
 }
 
-// base64 of little-endian halves -> Float32Array (through a 65536-entry table: one lookup a value).
+// The page's packed halves (host/report/half_image.hpp: zlib-compressed byte planes, high bytes then low, in
+// base64) -> their bits and values (through a 65536-entry table: one lookup a value). Asynchronous: the browser's
+// DecompressionStream inflates them.
 const HALF_TABLE = (() => {
   const t = new Float32Array(65536);
   for (let i = 0; i < 65536; i++) t[i] = halfToFloat(i);
   return t;
 })();
-function decodeHalfBase64(text) {
+async function decodeHalves(text) {
   const bin = atob(text);
-  const n = bin.length >> 1;
+  const packed = new Uint8Array(bin.length);
+  for (let i = 0; i < bin.length; i++) packed[i] = bin.charCodeAt(i);
+  const stream = new Blob([packed]).stream().pipeThrough(new DecompressionStream("deflate"));
+  const planes = new Uint8Array(await new Response(stream).arrayBuffer());
+  const n = planes.length >> 1;
   const bits = new Uint16Array(n), values = new Float32Array(n);
   for (let i = 0; i < n; i++) {
-    bits[i] = bin.charCodeAt(2 * i) | (bin.charCodeAt(2 * i + 1) << 8);
+    bits[i] = (planes[i] << 8) | planes[n + i];
     values[i] = HALF_TABLE[bits[i]];
   }
   return {bits, values};
@@ -68,6 +74,7 @@ function relativeError(a, ref) {
 }
 
 class Viewer {
+  // `images`: the page's images, each with `decoded` (decodeHalves' result).
   constructor(images, referenceKey, root) {
     this.width = images[0].width;
     this.height = images[0].height;
@@ -78,8 +85,7 @@ class Viewer {
     this.listeners = [];
     this.panels = [];
     for (const img of images)
-      this.panels.push(Object.assign({key: img.key, title: img.title, notes: img.notes, kind: "hdr"},
-                                     decodeHalfBase64(img.half_rgb)));
+      this.panels.push(Object.assign({key: img.key, title: img.title, notes: img.notes, kind: "hdr"}, img.decoded));
     const ref = this.panels.find(p => p.key === referenceKey);
     if (ref)
       for (const p of this.panels.slice())

@@ -1,10 +1,12 @@
 #include "report/half_image.hpp"
 
 #include <Imath/half.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 namespace clr::report {
@@ -34,15 +36,19 @@ namespace {
 
 std::string halves(const float* values, std::size_t count, std::size_t stride) {
   constexpr float kHalfMax = 65504.0f;
-  std::vector<std::uint8_t> bytes(count * 2);
+  std::vector<Bytef> planes(count * 2);
   for (std::size_t i = 0; i < count; ++i) {
     const float v = values[i * stride];
     const Imath::half h(std::isnan(v) ? v : std::clamp(v, -kHalfMax, kHalfMax));
     const std::uint16_t bits = h.bits();
-    bytes[2 * i] = std::uint8_t(bits & 0xff);  // little-endian, as the page's Uint16Array reads it
-    bytes[2 * i + 1] = std::uint8_t(bits >> 8);
+    planes[i] = Bytef(bits >> 8);
+    planes[count + i] = Bytef(bits & 0xff);
   }
-  return base64(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  uLongf size = compressBound(uLong(planes.size()));
+  std::vector<Bytef> packed(size);
+  if (compress2(packed.data(), &size, planes.data(), uLong(planes.size()), 6) != Z_OK)
+    throw std::runtime_error("zlib could not compress a report image");
+  return base64(std::string_view(reinterpret_cast<const char*>(packed.data()), size));
 }
 
 }  // namespace

@@ -151,9 +151,14 @@ def main():
     try:
         t = time.time()
         wd.command("POST", "/url", {"url": "file://" + os.path.abspath(page)})
-        ready = wd.script("return !!(window.clrReport && window.clrReport.viewer)")
+        # The images are inflated asynchronously: the page says when it is built.
+        ready = False
+        while not ready and time.time() - t < 30:
+            ready = wd.script("return document.body.dataset.ready === '1' && !!clrReport.viewer")
+            if not ready:
+                time.sleep(0.05)
         print(f"page opened in {time.time() - t:.2f} s")
-        assert ready, "the page's script did not finish (window.clrReport.viewer missing)"
+        assert ready, f"the page's script did not finish: {wd.console()}"
 
         # The values under a synthetic cursor: pixel (20, 9) of the 32×32 images, drawn 12× (the base scale).
         scale = wd.script("return clrReport.viewer.baseScale")

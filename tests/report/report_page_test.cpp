@@ -6,6 +6,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <chrono>
 #include <cstdio>
@@ -65,12 +66,32 @@ TEST(ReportImages, Base64IsRfc4648) {
   EXPECT_EQ(base64("foobar"), "Zm9vYmFy");
 }
 
-TEST(ReportImages, HalvesAreLittleEndianAndClampedToTheirRange) {
+// The inverse of base64, for the test alone.
+std::string unbase64(const std::string& text) {
+  static const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  std::uint32_t bits = 0;
+  int count = 0;
+  for (const char c : text) {
+    if (c == '=') break;
+    bits = bits << 6 | std::uint32_t(alphabet.find(c));
+    if ((count += 6) >= 8) out += char((bits >> (count -= 8)) & 0xff);
+  }
+  return out;
+}
+
+TEST(ReportImages, HalvesAreBytePlanesDeflatedAndClampedToTheirRange) {
   image::Image img(1, 1);
   img.rgb = {1.0f, 1e6f, -2.0f};
-  const std::string b64 = half_base64(img);
-  // 1.0 = 0x3c00, 65504 = 0x7bff, -2 = 0xc000, little-endian.
-  EXPECT_EQ(b64, base64(std::string("\x00\x3c\xff\x7b\x00\xc0", 6)));
+  const std::string packed = unbase64(half_base64(img));
+  std::vector<Bytef> planes(6);
+  uLongf size = planes.size();
+  ASSERT_EQ(uncompress(planes.data(), &size, reinterpret_cast<const Bytef*>(packed.data()), uLong(packed.size())),
+            Z_OK);
+  // 1.0 = 0x3c00, 65504 = 0x7bff, -2 = 0xc000: the high bytes, then the low bytes.
+  EXPECT_EQ(size, 6u);
+  EXPECT_EQ(std::vector<Bytef>(planes.begin(), planes.begin() + 6),
+            (std::vector<Bytef>{0x3c, 0x7b, 0xc0, 0x00, 0xff, 0x00}));
 }
 
 ReportData sample_data() {
