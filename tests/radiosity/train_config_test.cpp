@@ -68,6 +68,8 @@ TEST(TrainConfig, LearningRateAnnealsGeometricallyOverTheBudget) {
 
 TEST(TrainConfig, RelativeResidualFadesToL2OverTheBudget) {
   TrainConfig c;
+  EXPECT_EQ(c.relative_power(0.0), 0.5) << "the default ceiling";
+  c.relative_power_max = 1.0;
   c.relative_fade_end = 0.8;
   EXPECT_EQ(c.relative_power(0.0), 1.0);
   EXPECT_NEAR(c.relative_power(0.4), 0.5, 1e-12);
@@ -83,6 +85,7 @@ TEST(TrainConfig, RelativeResidualFadesToL2OverTheBudget) {
 // relative_warmup: plain L2 first, the power rising to the fade's value over that fraction of the budget.
 TEST(TrainConfig, RelativeResidualCanStartInL2) {
   TrainConfig c;
+  c.relative_power_max = 1.0;
   c.relative_warmup = 0.2;
   EXPECT_EQ(c.relative_power(0.0), 0.0) << "the first step is plain L2";
   EXPECT_NEAR(c.relative_power(0.1), 0.5 * 0.9, 1e-12) << "half way up towards the fade's 0.9";
