@@ -92,8 +92,9 @@ TEST_F(ConvergenceCli, LoggedErrorIsCompareOfARenderOfTheCheckpoint) {
   EXPECT_THAT(figure, HasSubstr("<polyline")) << "two evaluations make a line";
 
   const Log log(run / "log.csv");
-  EXPECT_EQ(log.header.back(), "samples");
+  EXPECT_EQ(log.header.back(), "mean_ratio");
   EXPECT_EQ(log.at(5, "mape"), "") << "a row between evaluations leaves the columns empty";
+  EXPECT_EQ(log.at(5, "mean_ratio"), "");
   EXPECT_NE(log.at(10, "mape"), "");
   for (const auto& row : log.rows) EXPECT_EQ(row.size(), log.header.size());
 
@@ -107,6 +108,7 @@ TEST_F(ConvergenceCli, LoggedErrorIsCompareOfARenderOfTheCheckpoint) {
   EXPECT_EQ(std::stod(log.at(20, "mape")), m["mape"].get<double>());
   EXPECT_EQ(std::stod(log.at(20, "mse")), m["mse"].get<double>());
   EXPECT_EQ(std::stod(log.at(20, "relmse")), m["relmse"].get<double>());
+  EXPECT_EQ(std::stod(log.at(20, "mean_ratio")), m["mean_ratio"].get<double>());
   EXPECT_NE(log.at(10, "mape"), log.at(20, "mape")) << "each evaluation is of the model at its step";
 
   // Evaluating is outside the training: the same run without it trains the same parameters, bit for bit.

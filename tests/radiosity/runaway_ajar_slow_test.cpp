@@ -39,10 +39,10 @@ class AjarRunaway : public CliRunDir {
   }
 
   // The mean ratios logged at each evaluation of a run of `steps` NR steps, evaluated every `every` steps, trained
-  // with the settings `config` (JSON) over the CPU defaults.
-  std::vector<std::pair<long, double>> mean_ratios(long steps, long every, const std::string& config) {
+  // with the settings `settings_json` over the CPU defaults.
+  std::vector<std::pair<long, double>> mean_ratios(long steps, long every, const std::string& settings_json) {
     const fs::path settings = dir / "settings.json", run = dir / ("run" + std::to_string(steps));
-    std::ofstream(settings) << config;
+    std::ofstream(settings) << settings_json;
     const auto r =
         run_cli("train " + (shared_scenes() / "veach-ajar" / "scene.xml").string() + " --method nr --seed 1 --steps " +
                 std::to_string(steps) + " --eval-every " + std::to_string(every) + " --reference " + reference +
