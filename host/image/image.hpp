@@ -63,7 +63,7 @@ struct Metrics {
   // (MAPE saturates near the ratio); 1 is right on average, whatever the per-pixel error.
   double mean_ratio = 1;
   // Values (pixels·channels) of the image under test that are NaN or infinite. A model or renderer that produced
-  // them has failed there, and no mean over the rest may hide it: the three metrics are then NaN.
+  // them has failed there, and no mean over the rest may hide it: the metrics are then NaN.
   std::size_t non_finite = 0;
   // Non-finite values of the reference: those positions are left out of the means (a reference's fault is not the
   // image's), and counted.
