@@ -181,6 +181,18 @@ radiosity::RenderMode render_mode(const std::string& name, const char* what) {
 
 // What a training reports to its callback after every step.
 
+// image::Metrics as `compare()` and `report()` return them: compare --json's keys.
+py::dict metrics_dict(const image::Metrics& m) {
+  py::dict d;
+  d["mape"] = m.mape;
+  d["mse"] = m.mse;
+  d["relmse"] = m.relmse;
+  d["mean_ratio"] = m.mean_ratio;
+  d["non_finite"] = m.non_finite;
+  d["reference_non_finite"] = m.reference_non_finite;
+  return d;
+}
+
 py::dict step_report(const radiosity::Trainer& trainer, double seconds) {
   py::dict d;
   d["step"] = trainer.steps_done();
@@ -388,15 +400,7 @@ PYBIND11_MODULE(_clradiosity, m) {
       [](const py::buffer& image, const py::buffer& reference) {
         const auto img = from_buffer(image, "image");
         const auto ref = image::match_size(from_buffer(reference, "reference"), img);
-        const auto metrics = image::compare(img, ref);
-        py::dict d;
-        d["mape"] = metrics.mape;
-        d["mse"] = metrics.mse;
-        d["relmse"] = metrics.relmse;
-        d["mean_ratio"] = metrics.mean_ratio;
-        d["non_finite"] = metrics.non_finite;
-        d["reference_non_finite"] = metrics.reference_non_finite;
-        return d;
+        return metrics_dict(image::compare(img, ref));
       },
       py::arg("image"), py::arg("reference"));
 
@@ -428,14 +432,9 @@ PYBIND11_MODULE(_clradiosity, m) {
         }
         py::dict result, images;
         for (const auto& img : data.images) {
-          py::dict e;
+          py::dict e = img.metrics ? metrics_dict(*img.metrics) : py::dict();
           e["title"] = img.title;
           e["notes"] = img.notes;
-          if (img.metrics) {
-            e["mape"] = img.metrics->mape;
-            e["mse"] = img.metrics->mse;
-            e["relmse"] = img.metrics->relmse;
-          }
           images[py::str(img.key)] = e;
         }
         result["path"] = out;

@@ -8,8 +8,6 @@
 
 #include "cli/command.hpp"
 #include "cli/number_checks.hpp"
-#include "common/atomic_file.hpp"
-#include "common/error.hpp"
 #include "common/stop_signal.hpp"
 #include "radiosity/preset.hpp"
 #include "radiosity/training_session.hpp"
