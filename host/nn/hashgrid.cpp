@@ -94,6 +94,7 @@ std::vector<float> HashGrid::gradient() const {
 }
 
 void HashGrid::adam_step() {
+  if (config_.dense_adam) touched_.fill(std::uint8_t(1));  // the gradient of an entry not reached is 0
   if (fixed_)
     adam_.step_sparse_fixed(table_, grad_fixed_, touched_, config_.features);
   else

@@ -24,6 +24,10 @@ struct HashGridConfig {
   // Accumulate the table gradient in int64 fixed point (kernels/hashgrid.cl) so a step is bit-reproducible;
   // falls back to float CAS atomics on devices without cl_khr_int64_base_atomics.
   bool deterministic = true;
+  // Adam over every entry at every step (PyTorch's dense Adam, the Neural Radiosity authors' code): an entry the
+  // batch did not reach keeps moving on its momentum. false: only the entries reached (lazy), which is what a CPU
+  // can afford for big tables (docs/design.md §6); docs/method.md measures the two.
+  bool dense_adam = false;
 };
 
 struct HashGridLevel {

@@ -29,15 +29,16 @@ Mlp::Mlp(cl::Context& ctx, Gemm& gemm, MlpConfig config, std::uint64_t seed)
     total += fan_in(l) * fan_out(l) + fan_out(l);
   }
   offsets_.push_back(total);
-  // He-uniform weights (variance 2/fan_in keeps ReLU activations at a stable scale through depth), zero biases; the
-  // output layer's scaled by output_init.
+  // config_.init's weights (and biases), the output layer's scaled by output_init.
   std::vector<float> host(total, 0.0f);
   std::mt19937_64 rng(seed);
+  const bool torch = config_.init == WeightInit::Torch;
   for (std::size_t l = 0; l < layer_count(); ++l) {
-    const float bound =
-        float(std::sqrt(6.0 / double(fan_in(l)))) * (l + 1 == layer_count() ? config_.output_init : 1.0f);
+    const float bound = float(std::sqrt((torch ? 1.0 : 6.0) / double(fan_in(l)))) *
+                        (l + 1 == layer_count() ? config_.output_init : 1.0f);
     std::uniform_real_distribution<float> u(-bound, bound);
-    for (std::size_t i = 0; i < fan_in(l) * fan_out(l); ++i) host[offsets_[l] + i] = u(rng);
+    const std::size_t weights = fan_in(l) * fan_out(l);
+    for (std::size_t i = 0; i < weights + (torch ? fan_out(l) : 0); ++i) host[offsets_[l] + i] = u(rng);
   }
   params_ = cl::Buffer<float>(ctx, std::span<const float>(host));
   const auto& c = config_;

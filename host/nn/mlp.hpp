@@ -22,14 +22,20 @@ namespace clr::nn {
 
 enum class OutputActivation { None, Abs };
 
+// The hidden and output layers' initial weights. He: uniform with variance 2/fan_in, zero biases (ReLU
+// activations keep their scale through depth). Torch: PyTorch's nn.Linear default, weights and biases uniform in
+// ±1/sqrt(fan_in) (a third of He's variance), what the Neural Radiosity authors' code trains from.
+enum class WeightInit { He, Torch };
+
 struct MlpConfig {
   std::size_t inputs = 0;
   std::size_t width = 64;
   std::size_t hidden_layers = 3;
   std::size_t outputs = 32;
   OutputActivation output_activation = OutputActivation::None;
-  float output_scale = 1;              // infer() only (NetworkConfig::output_scale)
-  float output_init = 1;               // the output layer's initial weights' scale (NetworkConfig::output_init)
+  float output_scale = 1;  // infer() only (NetworkConfig::output_scale)
+  float output_init = 1;   // the output layer's initial weights' scale (NetworkConfig::output_init)
+  WeightInit init = WeightInit::He;
   std::size_t max_chunk_rows = 65536;  // further capped by the device's max allocation
   // Small networks where the one-launch kernel (kernels/mlp_fused.cl) applies — width and outputs multiples of 16
   // and ≤ 64, 1-4 hidden layers, no output activation (the I-Module) — take it or the per-layer GEMMs: Probe times

@@ -24,6 +24,7 @@ MlpConfig mlp_config(const NetworkConfig& c, std::size_t inputs) {
   m.output_activation = c.output_activation;
   m.output_scale = c.output_scale;
   m.output_init = c.output_init;
+  m.init = c.init;
   m.max_chunk_rows = c.max_chunk_rows;
   return m;
 }
@@ -103,6 +104,8 @@ nlohmann::json to_json(const NetworkConfig& c) {
   // Written only where they are not 1, so that runs (and checkpoints) from before they existed compare equal.
   if (c.output_scale != 1.0f) j["output_scale"] = shortest(c.output_scale);
   if (c.output_init != 1.0f) j["output_init"] = shortest(c.output_init);
+  if (c.init != WeightInit::He) j["init"] = "torch";
+  if (c.encoder.grid && c.encoder.grid->dense_adam) j["encoder"]["grid"]["dense_adam"] = true;
   return j;
 }
 
@@ -218,6 +221,7 @@ NetworkConfig network_config_from_json(const nlohmann::json& j) {
         get(g, "encoder.grid.", "growth", gc.growth);
         get(g, "encoder.grid.", "bbox_lo", gc.bbox_lo);
         get(g, "encoder.grid.", "bbox_hi", gc.bbox_hi);
+        get(g, "encoder.grid.", "dense_adam", gc.dense_adam);
       }
     }
     get(j, "", "width", c.width);
@@ -230,6 +234,11 @@ NetworkConfig network_config_from_json(const nlohmann::json& j) {
     get(j, "", "max_chunk_rows", c.max_chunk_rows);
     get(j, "", "output_scale", c.output_scale);
     get(j, "", "output_init", c.output_init);
+    std::string init = "he";
+    get(j, "", "init", init);
+    if (init != "he" && init != "torch")
+      throw InputError("network config entry 'init' must be he or torch, got '" + clip(init) + "'");
+    c.init = init == "torch" ? WeightInit::Torch : WeightInit::He;
     get(j, "", "gemm", gemm);
     c.gemm = parse_gemm_choice(gemm);
     get(j, "", "seed", c.seed);
@@ -250,6 +259,8 @@ NetworkConfig network_config_from_json(const nlohmann::json& j) {
   nlohmann::json kept = to_json(c);
   kept["output_scale"] = c.output_scale;  // to_json leaves out the defaults
   kept["output_init"] = c.output_init;
+  kept["init"] = c.init == WeightInit::Torch ? "torch" : "he";
+  if (c.encoder.grid) kept["encoder"]["grid"]["dense_adam"] = c.encoder.grid->dense_adam;
   require_known_and_kept(j, kept, "network config");
   validate(c);
   return c;

@@ -35,6 +35,7 @@ struct NetworkConfig {
   // room lit through a door gap (scenes/door-gap.xml) a full-scale start was still 1.3× too bright at 150 steps,
   // where a tenth-scale one was within 2 % (tests/radiosity/runaway_slow_test.cpp; docs/method.md).
   float output_init = 1;
+  WeightInit init = WeightInit::He;  // "he" or "torch" in the JSON (nn/mlp.hpp)
   std::size_t max_chunk_rows = 65536;
   AdamConfig adam;
   GemmChoice gemm = GemmChoice::Auto;  // the engine config's `gemm: auto|fp32|own|clblast`

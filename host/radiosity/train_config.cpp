@@ -84,6 +84,7 @@ void TrainConfig::validate() const {
   require(minutes >= 0 && std::isfinite(minutes), "minutes", minutes, ">= 0");
   require(anneal_start >= 0 && anneal_start <= 1, "anneal_start", anneal_start, "in [0, 1]");
   require(anneal_final > 0 && anneal_final <= 1, "anneal_final", anneal_final, "in (0, 1]");
+  require(learning_rate_warmup >= 0, "learning_rate_warmup", learning_rate_warmup, ">= 0");
   require(relative_fade_end >= 0 && relative_fade_end <= 1, "relative_fade_end", relative_fade_end, "in [0, 1]");
   require(relative_warmup >= 0 && relative_warmup <= 1, "relative_warmup", relative_warmup, "in [0, 1]");
   require(relative_power_max >= 0 && relative_power_max <= 1, "relative_power_max", relative_power_max, "in [0, 1]");
@@ -115,9 +116,10 @@ void TrainConfig::forget_scene() {
   }
 }
 
-double TrainConfig::learning_rate_scale(double progress) const {
-  if (progress <= anneal_start || anneal_start >= 1) return 1.0;
-  return std::pow(anneal_final, (std::min(progress, 1.0) - anneal_start) / (1.0 - anneal_start));
+double TrainConfig::learning_rate_scale(double progress, long steps_done) const {
+  const double warm = steps_done < learning_rate_warmup ? double(steps_done + 1) / double(learning_rate_warmup) : 1.0;
+  if (progress <= anneal_start || anneal_start >= 1) return warm;
+  return warm * std::pow(anneal_final, (std::min(progress, 1.0) - anneal_start) / (1.0 - anneal_start));
 }
 
 double TrainConfig::bsdf_fraction_at(double progress) const {

@@ -68,6 +68,10 @@ struct TrainConfig {
   // end. A noisy Monte Carlo target needs it: at a constant rate the fit keeps the noise of the last steps.
   double anneal_start = 0.5;
   double anneal_final = 0.05;
+  // A linear learning-rate warm-up over the first this many steps (0: none): Adam's first steps move every
+  // parameter by about the full rate whatever the gradient's size, and from the dark start they overshoot the
+  // image's scale (docs/method.md, "The start").
+  long learning_rate_warmup = 0;
   // The relative residual's denominator power falls linearly from 1 to 0 (plain L2) by the fraction
   // `relative_fade_end` of the budget, as the NR authors' code can; 0 keeps it at 1. The relative residual weighs
   // dark regions like bright ones, but it barely resists a solution scaled up as a whole (its pull is 2r/L²) and
@@ -101,8 +105,8 @@ struct TrainConfig {
     return steps_done * std::uint64_t(std::max(batch, 0)) * std::uint64_t(std::max(samples, 0));
   }
 
-  // The factor on the learning rate once `progress` ∈ [0, 1] of the budget is spent.
-  double learning_rate_scale(double progress) const;
+  // The factor on the learning rate once `progress` ∈ [0, 1] of the budget and `steps_done` steps are spent.
+  double learning_rate_scale(double progress, long steps_done) const;
 
   // c once `progress` of the budget is spent (the warm-up's ramp, then bsdf_fraction).
   double bsdf_fraction_at(double progress) const;
@@ -120,8 +124,9 @@ struct TrainConfig {
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, is_loss, bsdf_fraction, guide_warmup, guide_lag,
                                                 residual, nee, samples, batch, steps, minutes, seed, preset,
-                                                anneal_start, anneal_final, relative_fade_end, relative_warmup,
-                                                relative_power_max, log_every, checkpoint_every, network, guide)
+                                                anneal_start, anneal_final, learning_rate_warmup, relative_fade_end,
+                                                relative_warmup, relative_power_max, log_every, checkpoint_every,
+                                                network, guide)
 
 // Applies the keys of `j` over `base`. An unknown key or a value of the wrong type is an InputError naming the
 // key (a misspelt key must not be silently ignored); the result is validated.

@@ -385,7 +385,7 @@ void Trainer::run(const RunOptions& options) {
     const double iteration_start = elapsed();
     const double fraction = ranks.max(spent());
     if (fraction >= 1.0) break;
-    lr_scale = config_.learning_rate_scale(fraction);
+    lr_scale = config_.learning_rate_scale(fraction, long(network_->steps()));
     network_->set_learning_rate_scale(float(lr_scale));
     if (guide_) guide_->set_learning_rate_scale(float(lr_scale));
     residual_power_ = float(config_.relative_power(fraction));

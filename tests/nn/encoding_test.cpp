@@ -1,6 +1,7 @@
 // Hash grid, SH and the composed encoder against their double twins, with finite-difference gradient checks.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "nn/encoder.hpp"
@@ -117,6 +118,50 @@ TEST_P(HashGridTest, ForwardAndTableGradientMatchTwin) {
   }
   for (std::size_t e = 0; e < reached.size(); ++e) ASSERT_EQ(bool(touched[e]), reached[e]) << "touched flag " << e;
   (void)F;
+}
+
+// Lazy Adam updates only the entries a batch reached; dense Adam (PyTorch's, the NR authors' code) every entry, so
+// an entry reached only by the first batch keeps moving on its momentum in the second step. Both against a double
+// Adam twin fed the device's own gradients.
+TEST_P(HashGridTest, DenseAdamMovesTheEntriesABatchMissed) {
+  for (const bool dense : {false, true}) {
+    auto cfg = small_grid();
+    cfg.deterministic = GetParam();
+    cfg.dense_adam = dense;
+    nn::AdamConfig adam;
+    adam.learning_rate = 0.01f;
+    nn::HashGrid grid(ctx(), cfg, adam, 3);
+    const auto table0 = grid.params().read();
+    std::vector<double> p(table0.begin(), table0.end()), m(p.size()), v(p.size());
+    const std::size_t rows = 6, ld = 3, D = grid.outputs(), F = cfg.features;
+    std::size_t moved_untouched = 0;
+    for (int step = 1; step <= 2; ++step) {
+      const auto pos = positions(rows, cfg, ld, 20 + step);  // another handful of points each step
+      cl::Buffer<float> dpos(ctx(), std::span<const float>(pos));
+      std::vector<float> w(rows * D, 1.0f);
+      cl::Buffer<float> dw(ctx(), std::span<const float>(w));
+      grid.backward(dpos, 0, ld, rows, dw, 0, D);
+      const auto g = grid.gradient();
+      const auto touched = grid.touched().read();
+      const auto before = grid.params().read();
+      grid.adam_step();
+      const auto after = grid.params().read();
+      const double lr = adam.learning_rate, c1 = 1 - std::pow(double(adam.beta1), step),
+                   c2 = 1 - std::pow(double(adam.beta2), step);
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        if (!dense && !touched[i / F]) continue;
+        m[i] = adam.beta1 * m[i] + (1 - double(adam.beta1)) * g[i];
+        v[i] = adam.beta2 * v[i] + (1 - double(adam.beta2)) * double(g[i]) * g[i];
+        p[i] -= lr * (m[i] / c1) / (std::sqrt(v[i] / c2) + adam.epsilon);
+        if (!touched[i / F] && after[i] != before[i]) ++moved_untouched;
+      }
+      ASSERT_TRUE(all_near(std::span<const float>(after), std::span<const double>(p))) << "step " << step;
+    }
+    if (dense)
+      EXPECT_GT(moved_untouched, 0u) << "entries reached only by the first batch move on their momentum";
+    else
+      EXPECT_EQ(moved_untouched, 0u);
+  }
 }
 
 // Fixed-point (deterministic, int64 atomics) and float CAS accumulation of the table gradient.

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "nn/mlp_twin.hpp"
@@ -169,6 +170,41 @@ TEST_F(ClTest, ClblastBackendMatchesOwn) {
   b.backward(cb, dw, &gb);
   EXPECT_TRUE(all_near(std::span<const float>(b.grads().read()), std::span<const float>(a.grads().read())));
   EXPECT_TRUE(all_near(std::span<const float>(gb.read()), std::span<const float>(ga.read())));
+}
+
+// He: weights uniform with variance 2/fan_in, zero biases; Torch (PyTorch's nn.Linear): weights and biases uniform
+// in ±1/sqrt(fan_in); the output layer's scaled by output_init in both.
+TEST_F(ClTest, InitialParametersFollowTheChosenInit) {
+  nn::Gemm gemm(ctx(), nn::GemmChoice::Own);
+  for (const auto init : {nn::WeightInit::He, nn::WeightInit::Torch}) {
+    auto c = cfg(96, 128, 2, 3, nn::OutputActivation::Abs);
+    c.init = init;
+    c.output_init = 0.25f;
+    nn::Mlp mlp(ctx(), gemm, c, 5);
+    const auto p = mlp.params().read();
+    const bool torch = init == nn::WeightInit::Torch;
+    for (std::size_t l = 0; l < mlp.layer_count(); ++l) {
+      const double scale = l + 1 == mlp.layer_count() ? 0.25 : 1.0;
+      const double bound = scale * std::sqrt((torch ? 1.0 : 6.0) / double(mlp.fan_in(l)));
+      const std::size_t w0 = mlp.bias_offset(l) - mlp.fan_in(l) * mlp.fan_out(l), b0 = mlp.bias_offset(l);
+      double sum2 = 0;
+      for (std::size_t i = w0; i < b0; ++i) {
+        ASSERT_LE(std::abs(p[i]), bound) << "layer " << l;
+        sum2 += double(p[i]) * p[i];
+      }
+      const double variance = sum2 / double(b0 - w0), want = bound * bound / 3;
+      EXPECT_NEAR(variance, want, (l + 1 == mlp.layer_count() ? 0.5 : 0.1) * want) << "layer " << l;
+      double bias_max = 0;
+      for (std::size_t i = b0; i < b0 + mlp.fan_out(l); ++i) {
+        ASSERT_LE(std::abs(p[i]), bound) << "bias of layer " << l;
+        bias_max = std::max(bias_max, double(std::abs(p[i])));
+      }
+      if (torch)
+        EXPECT_GT(bias_max, 0.1 * bound) << "layer " << l;
+      else
+        EXPECT_EQ(bias_max, 0.0) << "layer " << l;
+    }
+  }
 }
 
 }  // namespace

@@ -55,8 +55,27 @@ TEST(NetworkConfig, ImpossibleEntriesAreNamed) {
       {{{"encoder", {{"grid", {{"growth", 0.5}}}}}}, "'encoder.grid.growth'"},
       {{{"encoder", {{"grid", {{"levels", "many"}}}}}}, "'encoder.grid.levels'"},
       {{{"encoder", {{"grid", {{"bbox_lo", {0, 0, 2}}}}}}}, "'encoder.grid.bbox_hi'"},
+      {{{"encoder", {{"grid", {{"dense_adam", 1}}}}}}, "'encoder.grid.dense_adam'"},
+      {{{"init", "xavier"}}, "'init'"},
+      {{{"init", 1}}, "'init'"},
   };
   for (const auto& [patch, name] : cases) EXPECT_THAT(error_of(patch), HasSubstr(name)) << patch.dump();
+}
+
+// The initialisation and the table's Adam are written only where they differ from the defaults (configs written
+// before they existed compare equal), and read back.
+TEST(NetworkConfig, InitAndDenseAdamRoundTrip) {
+  const nlohmann::json defaults = nn::to_json(nn::NetworkConfig{});
+  EXPECT_FALSE(defaults.contains("init"));
+  EXPECT_FALSE(defaults["encoder"]["grid"].contains("dense_adam"));
+  EXPECT_EQ(error_of({{"init", "he"}, {"encoder", {{"grid", {{"dense_adam", false}}}}}}), "")
+      << "the defaults may be spelt out";
+  nlohmann::json j = defaults;
+  j.merge_patch({{"init", "torch"}, {"encoder", {{"grid", {{"dense_adam", true}}}}}});
+  const auto c = nn::network_config_from_json(j);
+  EXPECT_EQ(c.init, nn::WeightInit::Torch);
+  EXPECT_TRUE(c.encoder.grid->dense_adam);
+  EXPECT_EQ(nn::to_json(c), j);
 }
 
 // A checkpoint whose checksum is right but whose tensor claims 2^62 floats: count · 4 wraps to 0, which a

@@ -55,15 +55,30 @@ TEST(TrainConfig, LearningRateAnnealsGeometricallyOverTheBudget) {
   TrainConfig c;
   c.anneal_start = 0.5;
   c.anneal_final = 0.01;
-  EXPECT_EQ(c.learning_rate_scale(0.0), 1.0);
-  EXPECT_EQ(c.learning_rate_scale(0.5), 1.0);
-  EXPECT_NEAR(c.learning_rate_scale(0.75), 0.1, 1e-12);
-  EXPECT_NEAR(c.learning_rate_scale(1.0), 0.01, 1e-12);
-  EXPECT_NEAR(c.learning_rate_scale(3.0), 0.01, 1e-12) << "past the budget the rate stays at its final value";
+  EXPECT_EQ(c.learning_rate_scale(0.0, 10000), 1.0);
+  EXPECT_EQ(c.learning_rate_scale(0.5, 10000), 1.0);
+  EXPECT_NEAR(c.learning_rate_scale(0.75, 10000), 0.1, 1e-12);
+  EXPECT_NEAR(c.learning_rate_scale(1.0, 10000), 0.01, 1e-12);
+  EXPECT_NEAR(c.learning_rate_scale(3.0, 10000), 0.01, 1e-12) << "past the budget the rate stays at its final value";
   c.anneal_start = 1.0;
-  EXPECT_EQ(c.learning_rate_scale(1.0), 1.0) << "anneal_start 1 switches annealing off";
+  EXPECT_EQ(c.learning_rate_scale(1.0, 10000), 1.0) << "anneal_start 1 switches annealing off";
   EXPECT_THAT(error_of({{"anneal_final", 0}}), HasSubstr("anneal_final"));
   EXPECT_THAT(error_of({{"anneal_start", 1.5}}), HasSubstr("anneal_start"));
+}
+
+TEST(TrainConfig, LearningRateWarmsUpLinearlyOverItsSteps) {
+  TrainConfig c;
+  c.anneal_start = 0.5;
+  c.anneal_final = 0.01;
+  EXPECT_EQ(c.learning_rate_scale(0.0, 0), 1.0) << "no warm-up by default";
+  c.learning_rate_warmup = 100;
+  EXPECT_NEAR(c.learning_rate_scale(0.0, 0), 0.01, 1e-12) << "the first step takes a hundredth";
+  EXPECT_NEAR(c.learning_rate_scale(0.0, 49), 0.5, 1e-12);
+  EXPECT_EQ(c.learning_rate_scale(0.0, 99), 1.0);
+  EXPECT_EQ(c.learning_rate_scale(0.0, 5000), 1.0);
+  EXPECT_NEAR(c.learning_rate_scale(0.75, 49), 0.05, 1e-12) << "the warm-up multiplies the annealing";
+  EXPECT_THAT(error_of({{"learning_rate_warmup", -1}}), HasSubstr("learning_rate_warmup"));
+  EXPECT_THAT(error_of({{"learning_rate_warmup", 2.5}}), HasSubstr("learning_rate_warmup"));
 }
 
 TEST(TrainConfig, RelativeResidualFadesToL2OverTheBudget) {
