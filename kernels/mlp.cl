@@ -72,3 +72,13 @@ __kernel void scale_f32(uint n, float s, __global float* x, uint off) {
   const uint i = (uint)get_global_id(0);
   if (i < n) x[off + i] *= s;
 }
+
+// out[off + r·C + c] = in[off + r·C + c] · max(raw[(row0 + r)·ld + col + c], floor_) for r < rows, c < C: a network
+// whose output is a factor of the surface's albedo (NetworkConfig::albedo_factor); in and out may be one buffer.
+__kernel void albedo_factor(uint rows, uint C, __global const float* raw, uint row0, uint ld, uint col, float floor_,
+                            __global const float* in, __global float* out, uint off) {
+  const uint i = (uint)get_global_id(0);
+  if (i >= rows * C) return;
+  const uint r = i / C, c = i - r * C;
+  out[off + i] = in[off + i] * fmax(raw[(row0 + r) * ld + col + c], floor_);
+}

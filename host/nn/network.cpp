@@ -11,6 +11,7 @@
 #include "common/error.hpp"
 #include "common/input_file.hpp"
 #include "nn/checkpoint.hpp"
+#include "nn/programs.hpp"
 
 namespace clr::nn {
 namespace {
@@ -105,6 +106,7 @@ nlohmann::json to_json(const NetworkConfig& c) {
   if (c.output_scale != 1.0f) j["output_scale"] = shortest(c.output_scale);
   if (c.output_init != 1.0f) j["output_init"] = shortest(c.output_init);
   if (c.init != WeightInit::He) j["init"] = "torch";
+  if (c.albedo_factor) j["albedo_factor"] = true;
   if (c.encoder.grid && c.encoder.grid->dense_adam) j["encoder"]["grid"]["dense_adam"] = true;
   return j;
 }
@@ -234,6 +236,7 @@ NetworkConfig network_config_from_json(const nlohmann::json& j) {
     get(j, "", "max_chunk_rows", c.max_chunk_rows);
     get(j, "", "output_scale", c.output_scale);
     get(j, "", "output_init", c.output_init);
+    get(j, "", "albedo_factor", c.albedo_factor);
     std::string init = "he";
     get(j, "", "init", init);
     if (init != "he" && init != "torch")
@@ -260,6 +263,7 @@ NetworkConfig network_config_from_json(const nlohmann::json& j) {
   kept["output_scale"] = c.output_scale;  // to_json leaves out the defaults
   kept["output_init"] = c.output_init;
   kept["init"] = c.init == WeightInit::Torch ? "torch" : "he";
+  kept["albedo_factor"] = c.albedo_factor;
   if (c.encoder.grid) kept["encoder"]["grid"]["dense_adam"] = c.encoder.grid->dense_adam;
   require_known_and_kept(j, kept, "network config");
   validate(c);
@@ -301,7 +305,22 @@ Network::Network(cl::Context& ctx, NetworkConfig config)
       gemm_(ctx, config.gemm),
       encoder_(ctx, config.encoder, config.adam, config.seed ^ kEncoderSeedSalt),
       mlp_(ctx, gemm_, mlp_config(config, encoder_.outputs()), config.seed),
-      adam_(ctx, mlp_.parameter_count(), config.adam) {}
+      adam_(ctx, mlp_.parameter_count(), config.adam),
+      factor_(ctx.program(programs::mlp).kernel("albedo_factor")) {
+  // Checked here rather than with the other entries: a patch is validated over the generic defaults (32 outputs)
+  // before it meets the N-Module's 3.
+  if (config_.albedo_factor && config_.outputs != 3)
+    throw InputError("network config entry 'albedo_factor' needs 3 outputs (RGB radiance), got " +
+                     std::to_string(config_.outputs));
+}
+
+void Network::apply_albedo(const cl::Buffer<float>& raw, std::size_t row0, std::size_t rows, const cl::Buffer<float>& y,
+                           cl::Buffer<float>& x, std::size_t off) {
+  const auto u32 = [](std::size_t v) { return static_cast<cl_uint>(v); };
+  const std::size_t C = config_.outputs;
+  factor_.args(u32(rows), u32(C), raw, u32(row0), u32(kRawInputs), u32(raw::kAlbedo), kAlbedoFloor, y, x, u32(off))
+      .launch(rows * C);
+}
 
 std::size_t Network::parameter_count() const {
   return mlp_.parameter_count() + (encoder_.grid() ? encoder_.grid()->params().size() : 0);
@@ -317,6 +336,8 @@ void Network::forward_train(const cl::Buffer<float>& raw, std::size_t rows, Netw
   c.raw = &raw;
   encoder_.forward(raw, 0, rows, c.encoded);
   mlp_.forward_train(c.encoded, rows, c.mlp);
+  // In place: the MLP's backward reads its pre-activation, not its output.
+  if (config_.albedo_factor) apply_albedo(raw, 0, rows, c.mlp.output, c.mlp.output, 0);
 }
 
 void Network::backward(NetworkContext& c, const cl::Buffer<float>& d_output) {
@@ -326,8 +347,17 @@ void Network::backward(NetworkContext& c, const cl::Buffer<float>& d_output) {
     c.d_encoded = cl::Buffer<float>();
     c.d_encoded = cl::Buffer<float>(*ctx_, c.rows * encoder_.outputs());
   }
+  const cl::Buffer<float>* d_mlp = &d_output;
+  if (config_.albedo_factor) {
+    if (c.d_factored.size() < c.rows * config_.outputs) {
+      c.d_factored = cl::Buffer<float>();
+      c.d_factored = cl::Buffer<float>(*ctx_, c.rows * config_.outputs);
+    }
+    apply_albedo(*c.raw, 0, c.rows, d_output, c.d_factored, 0);
+    d_mlp = &c.d_factored;
+  }
   // Only the hash-grid columns (first in the encoding) carry trainable parameters below them.
-  mlp_.backward(c.mlp, d_output, grid ? &c.d_encoded : nullptr, grid ? grid->outputs() : 0);
+  mlp_.backward(c.mlp, *d_mlp, grid ? &c.d_encoded : nullptr, grid ? grid->outputs() : 0);
   if (grid) encoder_.backward(*c.raw, 0, c.rows, c.d_encoded);
 }
 
@@ -342,6 +372,7 @@ void Network::infer(const cl::Buffer<float>& raw, std::size_t rows, cl::Buffer<f
     const std::size_t cr = std::min(chunk, rows - r0);
     encoder_.forward(raw, r0, cr, infer_encoded_);
     mlp_.infer(infer_encoded_, cr, output, r0);
+    if (config_.albedo_factor) apply_albedo(raw, r0, cr, output, output, r0 * config_.outputs);
   }
 }
 

@@ -36,6 +36,11 @@ struct NetworkConfig {
   // where a tenth-scale one was within 2 % (tests/radiosity/runaway_slow_test.cpp; docs/method.md).
   float output_init = 1;
   WeightInit init = WeightInit::He;  // "he" or "torch" in the JSON (nn/mlp.hpp)
+  // The outputs (3, RGB) are multiplied by the surface's albedo (raw columns 9-11, at least kAlbedoFloor): the MLP
+  // learns radiance over albedo, which for a diffuse surface is its irradiance / π, smooth across a texture, and the
+  // texture itself comes exact from the scene — the factorisation of Müller et al.'s neural radiance cache. Without
+  // it the hash grid must carry every texel of a wallpaper or a wood grain (docs/method.md, "Albedo").
+  bool albedo_factor = false;
   std::size_t max_chunk_rows = 65536;
   AdamConfig adam;
   GemmChoice gemm = GemmChoice::Auto;  // the engine config's `gemm: auto|fp32|own|clblast`
@@ -66,11 +71,16 @@ NetworkConfig network_config_from_json(const nlohmann::json& j);  // throws Inpu
 // InputError.
 NetworkConfig merge_patch(const NetworkConfig& base, const nlohmann::json& patch);
 
+// The albedo factor's floor: a black albedo with a specular layer (a black plastic) still reflects, and a factor of
+// 0 would leave the network nothing to say there.
+inline constexpr float kAlbedoFloor = 0.02f;
+
 struct NetworkContext {
   std::size_t rows = 0;
   const cl::Buffer<float>* raw = nullptr;  // not owned; must stay unchanged until backward
   cl::Buffer<float> encoded;               // [rows × encoder outputs]
   cl::Buffer<float> d_encoded;
+  cl::Buffer<float> d_factored;  // dL/d(MLP output) with the albedo factor
   MlpContext mlp;
   const cl::Buffer<float>& output() const { return mlp.output; }
 };
@@ -121,7 +131,12 @@ class Network {
   Encoder encoder_;
   Mlp mlp_;
   Adam adam_;
+  cl::Kernel factor_;
   cl::Buffer<float> infer_encoded_;
+
+  // x[off …] = y[off …] · albedo of raw rows [row0, row0 + rows) (albedo_factor).
+  void apply_albedo(const cl::Buffer<float>& raw, std::size_t row0, std::size_t rows, const cl::Buffer<float>& y,
+                    cl::Buffer<float>& x, std::size_t off);
 };
 
 }  // namespace clr::nn

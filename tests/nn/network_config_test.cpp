@@ -58,23 +58,26 @@ TEST(NetworkConfig, ImpossibleEntriesAreNamed) {
       {{{"encoder", {{"grid", {{"dense_adam", 1}}}}}}, "'encoder.grid.dense_adam'"},
       {{{"init", "xavier"}}, "'init'"},
       {{{"init", 1}}, "'init'"},
+      {{{"albedo_factor", "yes"}}, "'albedo_factor'"},
   };
   for (const auto& [patch, name] : cases) EXPECT_THAT(error_of(patch), HasSubstr(name)) << patch.dump();
 }
 
-// The initialisation and the table's Adam are written only where they differ from the defaults (configs written
-// before they existed compare equal), and read back.
-TEST(NetworkConfig, InitAndDenseAdamRoundTrip) {
+// The initialisation, the table's Adam and the albedo factor are written only where they differ from the defaults
+// (configs written before they existed compare equal), and read back.
+TEST(NetworkConfig, InitDenseAdamAndAlbedoFactorRoundTrip) {
   const nlohmann::json defaults = nn::to_json(nn::NetworkConfig{});
   EXPECT_FALSE(defaults.contains("init"));
+  EXPECT_FALSE(defaults.contains("albedo_factor"));
   EXPECT_FALSE(defaults["encoder"]["grid"].contains("dense_adam"));
   EXPECT_EQ(error_of({{"init", "he"}, {"encoder", {{"grid", {{"dense_adam", false}}}}}}), "")
       << "the defaults may be spelt out";
   nlohmann::json j = defaults;
-  j.merge_patch({{"init", "torch"}, {"encoder", {{"grid", {{"dense_adam", true}}}}}});
+  j.merge_patch({{"init", "torch"}, {"albedo_factor", true}, {"encoder", {{"grid", {{"dense_adam", true}}}}}});
   const auto c = nn::network_config_from_json(j);
   EXPECT_EQ(c.init, nn::WeightInit::Torch);
   EXPECT_TRUE(c.encoder.grid->dense_adam);
+  EXPECT_TRUE(c.albedo_factor);
   EXPECT_EQ(nn::to_json(c), j);
 }
 

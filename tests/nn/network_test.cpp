@@ -81,6 +81,55 @@ TEST_F(ClTest, ChunkedInferenceMatchesOnePiece) {
   EXPECT_TRUE(canaries_intact(vb, rows * 3));
 }
 
+// With albedo_factor the outputs are the unfactored network's times max(albedo, floor), in training and in (chunked)
+// inference, and the parameter gradients of a loss are the unfactored network's for d_output times that factor.
+TEST_F(ClTest, AlbedoFactorMultipliesOutputsAndGradients) {
+  const std::size_t rows = 40;
+  auto plain_cfg = small_network();
+  auto factored_cfg = plain_cfg;
+  factored_cfg.albedo_factor = true;
+  factored_cfg.max_chunk_rows = 9;  // inference in pieces: each piece must meet its own rows' albedo
+  nn::Network plain(ctx(), plain_cfg), factored(ctx(), factored_cfg);
+  auto raw = raw_rows(rows, 11);
+  raw[3 * nn::kRawInputs + nn::raw::kAlbedo + 1] = 0.0f;  // a black channel: the floor applies
+  std::vector<double> factor(rows * 3);
+  for (std::size_t r = 0; r < rows; ++r)
+    for (std::size_t c = 0; c < 3; ++c)
+      factor[r * 3 + c] = std::max(raw[r * nn::kRawInputs + nn::raw::kAlbedo + c], nn::kAlbedoFloor);
+  cl::Buffer<float> in(ctx(), std::span<const float>(raw));
+  nn::NetworkContext cp, cf;
+  plain.forward_train(in, rows, cp);
+  factored.forward_train(in, rows, cf);
+  const auto yp = cp.output().read(), yf = cf.output().read();
+  std::vector<double> want(rows * 3);
+  for (std::size_t i = 0; i < want.size(); ++i) want[i] = yp[i] * factor[i];
+  EXPECT_TRUE(all_near(std::span<const float>(yf.data(), want.size()), std::span<const double>(want)));
+  cl::Buffer<float> out(ctx(), rows * 3);
+  factored.infer(in, rows, out);
+  EXPECT_TRUE(all_near(std::span<const float>(out.read()), std::span<const double>(want)));
+
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<float> d(rows * 3), d_scaled(rows * 3);
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    d[i] = u(rng);
+    d_scaled[i] = float(d[i] * factor[i]);
+  }
+  cl::Buffer<float> dd(ctx(), std::span<const float>(d)), dds(ctx(), std::span<const float>(d_scaled));
+  factored.backward(cf, dd);
+  plain.backward(cp, dds);
+  EXPECT_TRUE(all_near(std::span<const float>(factored.mlp().grads().read()),
+                       std::span<const float>(plain.mlp().grads().read())));
+  EXPECT_TRUE(all_near(std::span<const float>(factored.encoder().grid()->gradient()),
+                       std::span<const float>(plain.encoder().grid()->gradient())));
+  EXPECT_EQ(dd.read(), d) << "backward leaves the caller's d_output as it was";
+
+  auto wide = plain_cfg;
+  wide.outputs = 4;
+  wide.albedo_factor = true;
+  EXPECT_THROW(nn::Network(ctx(), wide), InputError) << "the factor is RGB: 3 outputs";
+}
+
 TEST_F(ClTest, NetworkGradientsMatchFiniteDifferences) {
   const auto cfg = small_network();
   nn::Network net(ctx(), cfg);
