@@ -229,29 +229,95 @@ if (DATA.images.length > 0) {
   }
 })();
 
-// The paper tables: per scene, every run's evaluations against steps, seconds and samples trained on, the path
-// tracer's points beside them against seconds; tables.md (our rows beside the paper's) is in the record below.
+// The paper tables: per scene, our runs' rows beside the paper's numbers as a table that sorts on a click of its
+// header, every run's evaluations against steps, seconds and samples trained on, the path tracer's points beside
+// them against seconds, and the paper's own points (hollow, in the run's colour) against steps — steps alone,
+// since the paper's seconds are another machine's and its batch is not stated. Hovering a row picks out its run's
+// curves and points in the scene's charts; hovering a curve picks out its row.
 (function paper() {
   if (!DATA.paper) return;
   document.getElementById("paper").hidden = false;
   const root = document.getElementById("paper-scenes");
+  if (DATA.paper.source) {
+    const p = document.createElement("p");
+    p.className = "hint";
+    p.textContent = "The paper's numbers (the right-hand columns, the hollow points): " + DATA.paper.source;
+    root.append(p);
+  }
+  const number = digits => v => (v === null || v === undefined ? "—" : Number(v).toPrecision(digits));
+  const columns = [
+    {key: "label", label: "run"}, {key: "table", label: "table"}, {key: "method", label: "method"},
+    {key: "n", label: "N", title: "incident samples a point"}, {key: "batch", label: "batch"},
+    {key: "step", label: "step", title: "the last evaluation's step"},
+    {key: "samples_m", label: "samples seen (M)", format: number(4)},
+    {key: "minutes", label: "time (min)", format: number(3), title: "training time on this machine"},
+    {key: "memory_gib", label: "memory (GiB)", format: number(3), title: "peak device memory"},
+    {key: "mape", label: "MAPE", format: number(4)}, {key: "mse", label: "MSE", format: number(3)},
+    {key: "paper_step", label: "paper: step"},
+    {key: "paper_minutes", label: "time (min)", title: "the paper's, on one RTX 4090"},
+    {key: "paper_memory_gb", label: "memory (GB)"}, {key: "paper_mape", label: "MAPE", format: number(3)},
+    {key: "paper_mse", label: "MSE", format: number(3)},
+    {key: "mape_ratio", label: "MAPE ours / paper's", format: number(3)}];
   for (const scene of DATA.paper.scenes) {
+    const section = document.createElement("div");
+    section.className = "paper-scene";
+    section.dataset.scene = scene.name;
     const h = document.createElement("h3");
-    h.textContent = scene.name + (scene.record && scene.record.paper_scene ? " (the paper's " + scene.record.paper_scene + ")" : "");
+    const paperScene = scene.record && scene.record.paper_scene;
+    h.textContent = scene.name + (paperScene ? " (the paper's " + paperScene + ")" : " (not in the paper)");
+    const colourOf = new Map(scene.runs.map((r, i) => [r.label, SERIES_COLOURS[i % SERIES_COLOURS.length]]));
+    const rows = scene.runs.map(r => {
+      const f = r.final || {}, p = (r.paper || []).find(q => q.source === "Table " + r.table) || {};
+      const has = v => v !== null && v !== undefined;
+      return {label: r.label, table: r.table ?? null, method: r.method ?? null, n: f.config_samples ?? null,
+              batch: f.config_batch ?? null, step: f.step ?? null, samples_m: has(f.samples) ? f.samples / 1e6 : null,
+              minutes: has(f.seconds) ? f.seconds / 60 : null,
+              memory_gib: has(f.peak_device_mib) ? f.peak_device_mib / 1024 : null, mape: f.mape ?? null,
+              mse: f.mse ?? null, paper_step: p.step ?? null, paper_minutes: p.minutes ?? null,
+              paper_memory_gb: p.memory_gb ?? null, paper_mape: p.mape ?? null, paper_mse: p.mse ?? null,
+              mape_ratio: has(f.mape) && p.mape ? f.mape / p.mape : null};
+    });
+    const table = sortableTable(columns, rows, {rowKey: r => r.label,
+                                                onHover: r => highlightSeries(section, r ? r.label : null)});
+    table.classList.add("paper-table");
     const charts = document.createElement("div");
     charts.className = "charts";
-    root.append(h, charts);
+    section.append(h, table, charts);
+    root.append(section);
     const nulls = a => (a || []).map(v => (v === null ? NaN : v));
     for (const [xKey, xLabel] of [["step", "step"], ["seconds", "seconds (training; path tracer: rendering)"],
                                   ["samples", "samples trained on"]]) {
       const series = scene.runs.filter(r => r.columns[xKey] && r.columns.mape)
-                               .map(r => ({label: r.label, x: nulls(r.columns[xKey]), y: nulls(r.columns.mape)}));
+                               .map(r => ({label: r.label, x: nulls(r.columns[xKey]), y: nulls(r.columns.mape),
+                                           colour: colourOf.get(r.label)}));
+      if (xKey === "step") {
+        let first = true;
+        for (const r of scene.runs.filter(r => r.paper && r.paper.length)) {
+          series.push({label: "the paper", group: r.label, hollow: true, colour: colourOf.get(r.label),
+                       legend: first, legendColour: "#777", x: r.paper.map(p => p.step), y: r.paper.map(p => p.mape),
+                       names: r.paper.map(p => `the paper's ${p.source} (${r.label})`)});
+          first = false;
+        }
+      }
       if (xKey === "seconds" && scene.path_tracer && scene.path_tracer.seconds)
         series.push({label: "path tracer", x: nulls(scene.path_tracer.seconds), y: nulls(scene.path_tracer.mape),
                      colour: "#000", dashed: true});
-      const svg = lineChart({title: "MAPE against " + xKey, xLabel, yLabel: "MAPE", logY: true, series});
+      // Steps on a log axis: the paper's tens of thousands beside runs of a few hundred.
+      const svg = lineChart({title: "MAPE against " + xKey, xLabel, yLabel: "MAPE", logY: true,
+                             logX: xKey === "step", series});
       if (svg) charts.append(svg);
     }
+    // A curve under the pointer picks out its row (and its run's other curves).
+    charts.addEventListener("mouseover", ev => {
+      const g = ev.target.closest && ev.target.closest("g.series");
+      const label = g && colourOf.has(g.dataset.series) ? g.dataset.series : null;
+      highlightSeries(section, label);
+      for (const tr of table.tBodies[0].rows) tr.classList.toggle("hover", tr.dataset.key === label);
+    });
+    charts.addEventListener("mouseleave", () => {
+      highlightSeries(section, null);
+      for (const tr of table.tBodies[0].rows) tr.classList.remove("hover");
+    });
   }
 })();
 

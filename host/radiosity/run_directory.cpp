@@ -89,7 +89,8 @@ void remove_stale_temporaries(const fs::path& dir) {
     const std::string name = entry.path().filename().string();
     for (const fs::path& file :
          {RunDirectory::model_path(dir), RunDirectory::config_path(dir), RunDirectory::log_path(dir),
-          RunDirectory::scene_path(dir), RunDirectory::evaluation_path(dir), RunDirectory::convergence_path(dir)}) {
+          RunDirectory::scene_path(dir), RunDirectory::evaluation_path(dir), RunDirectory::convergence_path(dir),
+          RunDirectory::sessions_path(dir)}) {
       const std::string base = file.filename().string() + ".tmp";
       if (name.rfind(base, 0) == 0 && name.size() > base.size() &&
           name.find_first_not_of("0123456789", base.size()) == std::string::npos && entry.is_regular_file()) {

@@ -1,9 +1,10 @@
 #pragma once
 // RUN_DIR, the files of one training: config.json (every setting, the networks' included), log.csv (a row per log
-// interval), model.clr (both modules' checkpoint) and scene.json (the fingerprint of the scene it models: every
-// reader of the run checks the scene it is given against it). The file names live here alone. A RunDirectory is the one
-// writer of a run: it holds the directory's lock (common/run_lock.hpp) for as long as it lives. Reading a run
-// (render, residual, guide, a sweep's snapshots) needs no lock: the static readers below.
+// interval), model.clr (both modules' checkpoint), scene.json (the fingerprint of the scene it models: every
+// reader of the run checks the scene it is given against it) and sessions.json (what trained it, session by session).
+// The file names live here alone. A RunDirectory is the one writer of a run: it holds the directory's lock
+// (common/run_lock.hpp) for as long as it lives. Reading a run (render, residual, guide, a sweep's snapshots) needs no
+// lock: the static readers below.
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -44,6 +45,9 @@ class RunDirectory {
   // What `train --reference` adds (convergence.hpp): the record of what its log columns measure, and their figure.
   static std::filesystem::path evaluation_path(const std::filesystem::path& dir) { return dir / "evaluation.json"; }
   static std::filesystem::path convergence_path(const std::filesystem::path& dir) { return dir / "convergence.svg"; }
+  // What trained the run, one entry per session: commit, device, peak memory, the preset's reasons
+  // (session_record.hpp). Written by `train` after each session, not part of the settings.
+  static std::filesystem::path sessions_path(const std::filesystem::path& dir) { return dir / "sessions.json"; }
 
   // A new run: `dir` must be absent or empty. Locks and creates it; start() writes its first files once the
   // settings are complete.

@@ -26,6 +26,7 @@
 #include "radiosity/preset.hpp"
 #include "radiosity/run_directory.hpp"
 #include "radiosity/scene_inputs.hpp"
+#include "radiosity/session_record.hpp"
 #include "radiosity/trained_model.hpp"
 #include "radiosity/trainer.hpp"
 #include "scene/fingerprint.hpp"
@@ -175,9 +176,10 @@ TrainOutcome train_run(const TrainRequest& request) {
     std::vector<std::filesystem::path> inputs = scene.files;
     inputs.push_back(opt.evaluation.reference);
     using RunFiles = RunDirectory;
-    for (const auto& f : {RunFiles::config_path(opt.run_dir), RunFiles::log_path(opt.run_dir),
-                          RunFiles::model_path(opt.run_dir), RunFiles::scene_path(opt.run_dir),
-                          RunFiles::evaluation_path(opt.run_dir), RunFiles::convergence_path(opt.run_dir)})
+    for (const auto& f :
+         {RunFiles::config_path(opt.run_dir), RunFiles::log_path(opt.run_dir), RunFiles::model_path(opt.run_dir),
+          RunFiles::scene_path(opt.run_dir), RunFiles::evaluation_path(opt.run_dir),
+          RunFiles::convergence_path(opt.run_dir), RunFiles::sessions_path(opt.run_dir)})
       inputs.push_back(f);
     image::output_format(opt.preview, "--preview", {image::Format::Png});
     require_outputs({{opt.preview, "--preview"}}, inputs);
@@ -194,9 +196,12 @@ TrainOutcome train_run(const TrainRequest& request) {
   const geometry::Geometry geometry(scene);
   // Under mpirun each rank takes the next of the matching devices on its machine; rank 0 alone writes.
   cl::Context ctx(cl::select_device(opt.device, unsigned(ranks.local_rank())));
+  SessionRecord session;  // what the run's sessions.json will say of this session
   if (!opt.preset.empty()) {
     const geometry::SurfaceSampler sampler(scene);
     const auto why = apply_preset(opt.preset, config, scene_inputs(geometry, sampler), ctx.device());
+    session.preset = opt.preset;
+    session.preset_choices = why;
     if (ranks.rank() == 0)
       if (!Progress::silenced())
         for (const auto& line : why) std::cerr << "preset " << opt.preset << ": " << line << "\n";
@@ -276,6 +281,22 @@ TrainOutcome train_run(const TrainRequest& request) {
   outcome.model = RunDirectory::model_path(opt.run_dir);
   outcome.steps = trainer.steps_done();
   outcome.peak_device_mib = double(ctx.peak_bytes()) / double(1 << 20);
+  // The session's record, a stopped one's too (its checkpoint is the run's state); like the other side outputs, its
+  // failure (a damaged sessions.json, left as it is) costs the training nothing.
+  side_outputs.attempt("the session record " + RunDirectory::sessions_path(opt.run_dir).string(), [&] {
+    const SessionRecord now = this_session();
+    session.software = now.software;
+    session.commit = now.commit;
+    session.finished = now.finished;
+    session.peak_resident_mib = now.peak_resident_mib;
+    session.device = ctx.device().describe();
+    session.first_step = first_step;
+    session.last_step = trainer.steps_done();
+    session.training_seconds = trainer.seconds_trained();
+    session.peak_device_mib = outcome.peak_device_mib;
+    session.stopped = stop_requested();
+    append_session_record(opt.run_dir, session);
+  });
   if (preview && !stop_requested()) outcome.preview_written = write_preview();
   side_outputs.attempt("the convergence figure", [&] { outcome.convergence = write_convergence_figure(opt.run_dir); });
   outcome.side_output_failures = side_outputs.failures();

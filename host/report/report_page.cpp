@@ -107,7 +107,8 @@ std::string report_html(const ReportData& data) {
   replace_once(page, "<!--CLR_TITLE-->", html_escape(data.title));
   replace_once(page, "/*CLR_STYLE*/", report_asset("page.css"));
   replace_once(page, "/*CLR_SCRIPT*/",
-               report_asset("viewer.js") + "\n" + report_asset("charts.js") + "\n" + report_asset("main.js"));
+               report_asset("viewer.js") + "\n" + report_asset("charts.js") + "\n" + report_asset("table.js") + "\n" +
+                   report_asset("main.js"));
   // The data last: its text (file names, config values) is never searched for the marks above.
   replace_once(page, "/*CLR_DATA*/", script_safe(j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)));
   return page;

@@ -52,7 +52,8 @@ struct ReportData {
 // its inputs first).
 std::string report_html(const ReportData& data);
 
-// The file names under report/ that the page is made of, and their text, as embedded (for tests).
+// The files under report/ that the page is made of (and bench/paper/paper.json, the paper's numbers), by file name,
+// as embedded.
 std::string report_asset(const std::string& name);
 
 }  // namespace clr::report

@@ -17,6 +17,7 @@
 #include "radiosity/convergence.hpp"
 #include "radiosity/guide/guide_view.hpp"
 #include "radiosity/run_directory.hpp"
+#include "radiosity/session_record.hpp"
 #include "radiosity/trained_model.hpp"
 #include "reference/path_tracer.hpp"
 #include "scene/fingerprint.hpp"
@@ -96,6 +97,55 @@ image::Image path_trace_for(const geometry::Geometry& geometry, const image::Ima
   return img;
 }
 
+std::string mib(double v) { return fixed(v, 1) + " MiB"; }
+
+// What trained the run (sessions.json, radiosity/session_record.hpp): the last session's binary, the largest peaks
+// over the sessions (each session is a process of its own), and the preset's choices with their reasons as `train
+// --preset` printed them. A run written before sessions were recorded says so, key by key.
+void add_sessions(nlohmann::json& record, const nlohmann::json& sessions, const std::string& preset) {
+  constexpr const char* kNotRecorded = "not recorded (the run was written before runs recorded their sessions)";
+  if (sessions.empty()) {
+    for (const char* key : {"trained by", "peak device memory", "peak resident memory"}) record[key] = kNotRecorded;
+    if (!preset.empty()) record["preset's choices"] = kNotRecorded;
+    return;
+  }
+  const auto& last = sessions.back();
+  const auto text = [](const nlohmann::json& s, const char* key) {
+    return s.contains(key) && s[key].is_string() ? s[key].get<std::string>() : std::string("?");
+  };
+  std::string by = text(last, "software") + " (commit " + text(last, "commit") + ")";
+  if (sessions.size() > 1) {
+    by += ", the last of " + std::to_string(sessions.size()) + " sessions";
+    for (const auto& s : sessions)
+      if (text(s, "commit") != text(last, "commit")) {
+        by += "; earlier sessions by other commits (see sessions)";
+        break;
+      }
+  }
+  record["trained by"] = by;
+  for (const auto& [key, field] :
+       {std::pair{"peak device memory", "peak_device_mib"}, std::pair{"peak resident memory", "peak_resident_mib"}}) {
+    double peak = -1;
+    for (const auto& s : sessions)
+      if (s.contains(field) && s[field].is_number()) peak = std::max(peak, s[field].get<double>());
+    record[key] = peak < 0 ? std::string("not recorded")
+                           : mib(peak) + (sessions.size() > 1 ? " (the largest of its sessions)" : "");
+  }
+  record["sessions"] = sessions;
+  if (preset.empty()) return;
+  for (const auto& s : sessions)
+    if (s.contains("preset_choices") && s["preset_choices"].is_array()) {
+      std::string lines;
+      for (const auto& line : s["preset_choices"])
+        if (line.is_string()) lines += "preset " + text(s, "preset") + ": " + line.get<std::string>() + "\n";
+      record["preset's choices"] = lines;
+      return;
+    }
+  record["preset's choices"] =
+      "not recorded: no session of this run applied the preset (its settings came with "
+      "--config)";
+}
+
 std::string now_utc() {
   const std::time_t t = std::time(nullptr);
   char text[32];
@@ -139,6 +189,7 @@ ReportData run_report(const RunReportOptions& opt) {
     scene_record = read_json_file(RunDirectory::scene_path(opt.run), "run scene record");
   if (fs::exists(RunDirectory::evaluation_path(opt.run)))
     evaluation = read_json_file(RunDirectory::evaluation_path(opt.run), "run evaluation record");
+  const nlohmann::json sessions = radiosity::read_session_records(opt.run);
   double trained_seconds = 0;
   long steps = 0;
   if (const auto c = data.log.column("seconds"); c && data.log.rows() > 0) trained_seconds = data.log.values[*c].back();
@@ -291,6 +342,8 @@ ReportData run_report(const RunReportOptions& opt) {
     record["scene"] = *scene_record;
   }
   if (evaluation) record["evaluation"] = *evaluation;
+  add_sessions(record, sessions, train_config.preset);
+  if (!train_config.preset.empty()) record["preset"] = train_config.preset;
   // bench/paper_tables.sh records each run's peak device memory beside it (train prints it; the run keeps no copy).
   if (fs::is_regular_file(opt.run / "run.json"))
     record["run.json"] = read_json_file(opt.run / "run.json", "run record");

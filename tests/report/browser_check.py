@@ -2,7 +2,9 @@
 """The report page in a real browser (ctest report.browser): headless Chromium, driven through chromedriver's
 W3C WebDriver HTTP protocol with the standard library alone, opens a report of a tiny run from disk and checks
 that the page logs no console error, that the values under a synthetic cursor are the EXRs' (as half floats),
-and that the exposure slider and flipping change the canvas. A screenshot is kept beside the report.
+that the exposure slider and flipping change the canvas, and that the record names the run's commit and peak
+memory. Then a paper-tables folder made of two tiny runs: its table of our rows beside the paper's sorts on a
+click of a header, and hovering a row picks out that run's curves. A screenshot of each page is kept beside it.
 
 Usage: browser_check.py CLRADIOSITY_BINARY SCENE.xml OUT_DIR
 Exit 77 (ctest: skipped) where no browser or driver is installed, or the Python module to read EXRs is missing."""
@@ -213,6 +215,14 @@ def main():
         assert zoom > 1 and all(a != b for a, b in zip(before, after)), f"zoom {zoom}: not every canvas changed"
         wd.key("r")
 
+        # The record: the run's own commit (sessions.json) and its peak memory, as the page shows them.
+        record = wd.script("return Object.fromEntries([...document.querySelectorAll('#record-body tr')]"
+                           ".map(r => [r.cells[0].textContent, r.cells[1].textContent]))")
+        assert "(commit " in record.get("trained by", ""), f"record: trained by {record.get('trained by')}"
+        for key in ("peak device memory", "peak resident memory"):
+            assert record.get(key, "").endswith(" MiB"), f"record: {key} {record.get(key)}"
+        print(f"record: trained by {record['trained by']}; peak device memory {record['peak device memory']}")
+
         errors = [e for e in wd.console() if e.get("level") == "SEVERE"]
         assert not errors, f"console errors: {errors}"
         charts = wd.script("return document.querySelectorAll('#charts svg').length")
@@ -220,8 +230,68 @@ def main():
         with open(f"{out}/report.png", "wb") as f:
             f.write(base64.b64decode(wd.command("GET", "/screenshot")))
         print(f"screenshot: {out}/report.png; {charts} charts; no console errors")
+
+        check_paper_tables(wd, cli, scene, out, run_dir, ref, config)
     finally:
         wd.close()
+
+
+def open_page(wd, page):
+    t = time.time()
+    wd.command("POST", "/url", {"url": "file://" + os.path.abspath(page)})
+    while time.time() - t < 30:
+        if wd.script("return document.body.dataset.ready === '1'"):
+            return time.time() - t
+        time.sleep(0.05)
+    raise AssertionError(f"{page}: the page's script did not finish: {wd.console()}")
+
+
+def check_paper_tables(wd, cli, scene, out, isnr_run, ref, config):
+    """A paper-tables folder as bench/paper_tables.sh lays it out, recorded as the paper's Wooden Staircase: the
+    tiny ISNR run and an NR one, with a path tracer's points."""
+    folder = f"{out}/paper"
+    runs = f"{folder}/runs/staircase"
+    os.makedirs(runs)
+    os.makedirs(f"{folder}/path_tracer/staircase")
+    shutil.copytree(isnr_run, f"{runs}/t1-isnr-ikl")
+    run(cli, "train", scene, "--method", "nr", "--steps", 10, "--config", config, "--reference", ref,
+        "--eval-every", 5, "--eval-spp", 1, "-o", f"{runs}/t1-nr")
+    with open(f"{runs}/scene.json", "w") as f:
+        json.dump({"scene": scene, "paper_scene": "WoodenStaircase", "reference": ref, "width": 32, "height": 32,
+                   "eval_spp": 1, "preset": ""}, f)
+    with open(f"{folder}/path_tracer/staircase/points.csv", "w") as f:
+        f.write("spp,seconds,mape,mse,relmse\n1,0.01,0.9,0.2,0.8\n2,0.02,0.6,0.1,0.5\n4,0.04,0.4,0.05,0.3\n")
+    page = f"{folder}/report.html"
+    run(cli, "report", folder, "-o", page)
+    print(f"paper tables page opened in {open_page(wd, page):.2f} s")
+
+    rows = "return [...document.querySelectorAll('table.paper-table tbody tr')].map(r => r.dataset.key)"
+    assert sorted(wd.script(rows)) == ["t1-isnr-ikl", "t1-nr"], wd.script(rows)
+    # The paper's numbers beside ours: Table 1's MAPE on Wooden Staircase (bench/paper/paper.json).
+    cells = wd.script("const r = document.querySelector('table.paper-table tbody tr[data-key=\"t1-nr\"]');"
+                      "const h = [...document.querySelectorAll('table.paper-table thead th')].map(t => t.dataset.key);"
+                      "return Object.fromEntries(h.map((k, i) => [k, r.cells[i].textContent]))")
+    assert cells["paper_mape"] == "0.0400" and cells["paper_step"] == "25000", f"t1-nr's paper cells: {cells}"
+    # A click on a header sorts by it; a second click the other way.
+    mape = wd.script("return clrReport.data.paper.scenes[0].runs.map(r => [r.label, r.final.mape])")
+    ascending = [label for label, _ in sorted(mape, key=lambda m: m[1])]
+    wd.script("document.querySelector('table.paper-table th[data-key=mape]').click()")
+    assert wd.script(rows) == ascending, f"sorted by MAPE: {wd.script(rows)}, wanted {ascending}"
+    wd.script("document.querySelector('table.paper-table th[data-key=mape]').click()")
+    assert wd.script(rows) == ascending[::-1], f"sorted by MAPE, descending: {wd.script(rows)}"
+    # Hovering a row picks out its run in every chart (the others dimmed); the paper's points are its own too.
+    wd.move_to(wd.element("table.paper-table tbody tr[data-key=t1-nr]"), 0, 0)
+    dimmed = wd.script("return [...document.querySelectorAll('#paper g.series')].map(g => [g.dataset.series,"
+                       " g.classList.contains('dim')])")
+    assert dimmed and all(d == (label != "t1-nr") for label, d in dimmed), f"hover on t1-nr: {dimmed}"
+    hollow = wd.script("return document.querySelectorAll('#paper g.series[data-series=\"t1-nr\"] circle"
+                       "[fill=none]').length")
+    assert hollow >= 1, "no paper point beside t1-nr's curve"
+    errors = [e for e in wd.console() if e.get("level") == "SEVERE"]
+    assert not errors, f"console errors on the paper tables page: {errors}"
+    with open(f"{out}/report-paper.png", "wb") as f:
+        f.write(base64.b64decode(wd.command("GET", "/screenshot")))
+    print(f"screenshot: {out}/report-paper.png; sorting and hovering work; no console errors")
 
 
 if __name__ == "__main__":
