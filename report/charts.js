@@ -14,7 +14,9 @@ function formatNumber(v) {
   if (v === 0) return "0";
   const a = Math.abs(v);
   if (Number.isInteger(v) && a < 1e5) return String(v);  // steps and samples: counts read as counts
-  return a >= 1e4 || a < 1e-3 ? v.toExponential(1) : String(Number(v.toPrecision(3)));
+  // Short exponents ("1e5", "2.5e-4"): a tick's label stays inside its chart.
+  if (a >= 1e4 || a < 1e-3) return v.toExponential(1).replace(".0e", "e").replace("e+", "e");
+  return String(Number(v.toPrecision(3)));
 }
 
 // Ticks of a linear axis: about n round values across [lo, hi].

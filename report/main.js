@@ -302,9 +302,10 @@ if (DATA.images.length > 0) {
       if (xKey === "seconds" && scene.path_tracer && scene.path_tracer.seconds)
         series.push({label: "path tracer", x: nulls(scene.path_tracer.seconds), y: nulls(scene.path_tracer.mape),
                      colour: "#000", dashed: true});
-      // Steps on a log axis: the paper's tens of thousands beside runs of a few hundred.
+      // Steps and seconds on log axes: the paper's tens of thousands of steps beside runs of a few hundred, the
+      // path tracer's fractions of a second beside minutes of training.
       const svg = lineChart({title: "MAPE against " + xKey, xLabel, yLabel: "MAPE", logY: true,
-                             logX: xKey === "step", series});
+                             logX: xKey !== "samples", series});
       if (svg) charts.append(svg);
     }
     // A curve under the pointer picks out its row (and its run's other curves).
