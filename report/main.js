@@ -334,6 +334,8 @@ if (DATA.images.length > 0) {
     if (typeof v === "string" && v.includes("\n")) {
       const pre = document.createElement("pre");
       pre.textContent = v;
+      // Lines of prose (a preset's reasons) wrap; Markdown tables (tables.md) keep their rows and scroll.
+      if (!/^\|/m.test(v)) pre.className = "wrap";
       cell.append(pre);
       cell.style.textAlign = "left";
     } else if (v !== null && typeof v === "object") {
