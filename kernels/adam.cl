@@ -60,3 +60,9 @@ __kernel void adam_step_sparse_fixed(uint entries, uint features, __global uchar
     adam_apply(i, gi, p, m, v, lr, b1, b2, eps, wd, c1, c2, non_finite);
   }
 }
+
+// a[i] = d·a[i] + (1 − d)·p[i]: an exponential moving average of parameters (nn::Network::update_average).
+__kernel void average_f32(uint n, float d, __global const float* p, __global float* a) {
+  const uint i = (uint)get_global_id(0);
+  if (i < n) a[i] = d * a[i] + (1.0f - d) * p[i];
+}

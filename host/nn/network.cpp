@@ -306,7 +306,8 @@ Network::Network(cl::Context& ctx, NetworkConfig config)
       encoder_(ctx, config.encoder, config.adam, config.seed ^ kEncoderSeedSalt),
       mlp_(ctx, gemm_, mlp_config(config, encoder_.outputs()), config.seed),
       adam_(ctx, mlp_.parameter_count(), config.adam),
-      factor_(ctx.program(programs::mlp).kernel("albedo_factor")) {
+      factor_(ctx.program(programs::mlp).kernel("albedo_factor")),
+      average_(ctx.program(programs::adam).kernel("average_f32")) {
   // Checked here rather than with the other entries: a patch is validated over the generic defaults (32 outputs)
   // before it meets the N-Module's 3.
   if (config_.albedo_factor && config_.outputs != 3)
@@ -376,6 +377,37 @@ void Network::infer(const cl::Buffer<float>& raw, std::size_t rows, cl::Buffer<f
   }
 }
 
+void Network::start_average() {
+  average_mlp_ = cl::Buffer<float>(*ctx_, mlp_.params().size());
+  average_mlp_.copy_from(mlp_.params());
+  if (HashGrid* g = encoder_.grid()) {
+    average_grid_ = cl::Buffer<float>(*ctx_, g->params().size());
+    average_grid_.copy_from(g->params());
+  }
+}
+
+void Network::update_average(float decay) {
+  if (!averaging()) throw std::logic_error("network: update_average before start_average");
+  const auto fold = [&](const cl::Buffer<float>& p, cl::Buffer<float>& a) {
+    average_.args(static_cast<cl_uint>(p.size()), decay, p, a).launch(p.size());
+  };
+  fold(mlp_.params(), average_mlp_);
+  if (HashGrid* g = encoder_.grid()) fold(g->params(), average_grid_);
+}
+
+void Network::swap_average() {
+  if (!averaging()) throw std::logic_error("network: swap_average before start_average");
+  std::swap(mlp_.params(), average_mlp_);
+  if (HashGrid* g = encoder_.grid()) std::swap(g->params(), average_grid_);
+}
+
+void Network::adopt_average() {
+  if (!averaging()) return;
+  swap_average();
+  average_mlp_ = cl::Buffer<float>();
+  average_grid_ = cl::Buffer<float>();
+}
+
 void Network::set_learning_rate_scale(float s) {
   adam_.set_learning_rate_scale(s);
   encoder_.set_learning_rate_scale(s);
@@ -394,6 +426,10 @@ void Network::add_tensors(Checkpoint& c, const std::string& prefix) const {
     c.tensors.emplace_back(prefix + "grid.table", g->params().read());
     c.tensors.emplace_back(prefix + "grid.adam.m", g->adam().first_moment().read());
     c.tensors.emplace_back(prefix + "grid.adam.v", g->adam().second_moment().read());
+  }
+  if (averaging()) {
+    c.tensors.emplace_back(prefix + "mlp.average", average_mlp_.read());
+    if (encoder_.grid()) c.tensors.emplace_back(prefix + "grid.average", average_grid_.read());
   }
 }
 
@@ -456,6 +492,11 @@ void Network::restore(const Checkpoint& c, const std::string& path, const std::s
     g->clear_gradient();
     g->touched().fill(std::uint8_t(0));
     g->adam().set_steps(c.step);
+  }
+  if (c.has(prefix + "mlp.average")) {
+    start_average();
+    average_mlp_.write(c.tensor(path, prefix + "mlp.average", average_mlp_.size()));
+    if (HashGrid* g = encoder_.grid()) average_grid_.write(c.tensor(path, prefix + "grid.average", g->params().size()));
   }
 }
 

@@ -124,6 +124,17 @@ class Network {
   // Takes `other`'s parameters (a network of the same config) on the device, enqueued.
   void copy_parameters(const Network& other);
 
+  // An exponential moving average of the parameters (MLP and hash table; Polyak averaging, as Müller et al.'s
+  // neural radiance cache renders with): start_average() begins it at the current parameters,
+  // update_average(d) folds the current ones in with weight 1 − d (after an Adam step), swap_average() exchanges
+  // the parameters with the average (twice: back), so that the same inference code renders either.
+  bool averaging() const { return average_mlp_.size() != 0; }
+  void start_average();
+  void update_average(float decay);
+  void swap_average();
+  // The average becomes the parameters for good (a model loaded to be rendered, not trained on).
+  void adopt_average();
+
  private:
   cl::Context* ctx_;
   NetworkConfig config_;
@@ -132,7 +143,9 @@ class Network {
   Mlp mlp_;
   Adam adam_;
   cl::Kernel factor_;
+  cl::Kernel average_;
   cl::Buffer<float> infer_encoded_;
+  cl::Buffer<float> average_mlp_, average_grid_;  // empty until start_average
 
   // x[off …] = y[off …] · albedo of raw rows [row0, row0 + rows) (albedo_factor).
   void apply_albedo(const cl::Buffer<float>& raw, std::size_t row0, std::size_t rows, const cl::Buffer<float>& y,

@@ -301,8 +301,8 @@ void RunDirectory::require_scene(const fs::path& run, const scene::SceneFingerpr
                      "): the scene it was trained on cannot be checked; train it again");
 }
 
-std::unique_ptr<nn::Network> RunDirectory::load_radiance(cl::Context& ctx, const fs::path& run) {
-  return load_network(ctx, fs::is_directory(run) ? model_path(run) : run);
+std::unique_ptr<nn::Network> RunDirectory::load_radiance(cl::Context& ctx, const fs::path& run, bool to_train) {
+  return load_network(ctx, fs::is_directory(run) ? model_path(run) : run, to_train);
 }
 
 std::unique_ptr<nn::Network> RunDirectory::load_guide(cl::Context& ctx, const fs::path& run) {

@@ -84,8 +84,10 @@ class RunDirectory {
 
   // The files a reader of `run` (a run directory or its model.clr) reads: inputs no output may replace.
   static std::vector<std::filesystem::path> input_files(const std::filesystem::path& run);
-  // The N-Module of a run (`run` a run directory or its model.clr).
-  static std::unique_ptr<nn::Network> load_radiance(cl::Context& ctx, const std::filesystem::path& run);
+  // The N-Module of a run (`run` a run directory or its model.clr): the model it renders (trained_model.hpp's
+  // load_network), or with `to_train` the state training resumes from.
+  static std::unique_ptr<nn::Network> load_radiance(cl::Context& ctx, const std::filesystem::path& run,
+                                                    bool to_train = false);
   // The I-Module of an ISNR run: its config from config.json, its tensors from model.clr. InputError when the run
   // was trained without one (method nr) or its files are missing or damaged.
   static std::unique_ptr<nn::Network> load_guide(cl::Context& ctx, const std::filesystem::path& run);

@@ -85,6 +85,7 @@ void TrainConfig::validate() const {
   require(anneal_start >= 0 && anneal_start <= 1, "anneal_start", anneal_start, "in [0, 1]");
   require(anneal_final > 0 && anneal_final <= 1, "anneal_final", anneal_final, "in (0, 1]");
   require(learning_rate_warmup >= 0, "learning_rate_warmup", learning_rate_warmup, ">= 0");
+  require(average_steps >= 0, "average_steps", average_steps, ">= 0");
   require(relative_fade_end >= 0 && relative_fade_end <= 1, "relative_fade_end", relative_fade_end, "in [0, 1]");
   require(relative_warmup >= 0 && relative_warmup <= 1, "relative_warmup", relative_warmup, "in [0, 1]");
   require(relative_power_max >= 0 && relative_power_max <= 1, "relative_power_max", relative_power_max, "in [0, 1]");

@@ -72,6 +72,11 @@ struct TrainConfig {
   // parameter by about the full rate whatever the gradient's size, and from the dark start they overshoot the
   // image's scale (docs/method.md, "The start").
   long learning_rate_warmup = 0;
+  // The model rendered and evaluated is an exponential moving average of the N-Module's parameters over about this
+  // many steps (0: the parameters themselves). Training steps the parameters as before; the average smooths the
+  // swings that the estimator's noise drives them through (docs/method.md, "The weight average"). Early steps
+  // average over fewer: the weight of the newest parameters is max(1/average_steps, 9/(10 + step)).
+  long average_steps = 0;
   // The relative residual's denominator power falls linearly from 1 to 0 (plain L2) by the fraction
   // `relative_fade_end` of the budget, as the NR authors' code can; 0 keeps it at 1. The relative residual weighs
   // dark regions like bright ones, but it barely resists a solution scaled up as a whole (its pull is 2r/L²) and
@@ -105,6 +110,11 @@ struct TrainConfig {
     return steps_done * std::uint64_t(std::max(batch, 0)) * std::uint64_t(std::max(samples, 0));
   }
 
+  // The weight average's decay after `steps_done` steps (the newest parameters get 1 − this).
+  double average_decay(long steps_done) const {
+    return std::min(1.0 - 1.0 / double(std::max(average_steps, 1L)), double(1 + steps_done) / double(10 + steps_done));
+  }
+
   // The factor on the learning rate once `progress` ∈ [0, 1] of the budget and `steps_done` steps are spent.
   double learning_rate_scale(double progress, long steps_done) const;
 
@@ -124,9 +134,9 @@ struct TrainConfig {
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrainConfig, method, is_loss, bsdf_fraction, guide_warmup, guide_lag,
                                                 residual, nee, samples, batch, steps, minutes, seed, preset,
-                                                anneal_start, anneal_final, learning_rate_warmup, relative_fade_end,
-                                                relative_warmup, relative_power_max, log_every, checkpoint_every,
-                                                network, guide)
+                                                anneal_start, anneal_final, learning_rate_warmup, average_steps,
+                                                relative_fade_end, relative_warmup, relative_power_max, log_every,
+                                                checkpoint_every, network, guide)
 
 // Applies the keys of `j` over `base`. An unknown key or a value of the wrong type is an InputError naming the
 // key (a misspelt key must not be silently ignored); the result is validated.

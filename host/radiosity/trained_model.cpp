@@ -24,7 +24,7 @@ void require_radiance_network(const nn::NetworkConfig& config) {
     throw InputError("network.outputs must be 3 (the N-Module's RGB radiance), got " + std::to_string(config.outputs));
 }
 
-std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesystem::path& checkpoint) {
+std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesystem::path& checkpoint, bool to_train) {
   const nn::Checkpoint c = nn::read_checkpoint(checkpoint.string());
   const nlohmann::json config = parse_json(c.config_json, "the network config of checkpoint " + checkpoint.string());
   nn::NetworkConfig network_config;
@@ -38,6 +38,7 @@ std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesyste
   }
   auto network = std::make_unique<nn::Network>(ctx, network_config);
   network->load(checkpoint.string());
+  if (!to_train) network->adopt_average();
   return network;
 }
 

@@ -14,8 +14,10 @@ namespace clr::radiosity {
 void require_radiance_network(const nn::NetworkConfig& config);
 
 // Builds the network the checkpoint was written for and loads its parameters (InputError when the file is
-// missing, damaged or of another version).
-std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesystem::path& checkpoint);
+// missing, damaged or of another version). The model to render is the weight average where the run kept one
+// (TrainConfig::average_steps); `to_train` keeps the parameters and the average apart, as training resumes them.
+std::unique_ptr<nn::Network> load_network(cl::Context& ctx, const std::filesystem::path& checkpoint,
+                                          bool to_train = false);
 
 // A network of `config` whose tensors are stored under `prefix` in the checkpoint (the I-Module's, beside the
 // N-Module's; run_directory.hpp reads its config from the run).

@@ -22,6 +22,26 @@
 #include "radiosity/trained_model.hpp"
 
 namespace clr::radiosity {
+
+namespace {
+
+// The network's weight average in place of its parameters for a scope (nothing when it keeps none).
+class AverageSwapped {
+ public:
+  explicit AverageSwapped(nn::Network& net) : net_(net.averaging() ? &net : nullptr) {
+    if (net_) net_->swap_average();
+  }
+  ~AverageSwapped() {
+    if (net_) net_->swap_average();
+  }
+  AverageSwapped(const AverageSwapped&) = delete;
+  AverageSwapped& operator=(const AverageSwapped&) = delete;
+
+ private:
+  nn::Network* net_;
+};
+
+}  // namespace
 namespace fs = std::filesystem;
 namespace {}  // namespace
 
@@ -81,7 +101,7 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
     saved.steps = config_.steps;
     saved.minutes = config_.minutes;
     config_ = saved;
-    network_ = RunDirectory::load_radiance(ctx, run_dir);
+    network_ = RunDirectory::load_radiance(ctx, run_dir, true);
     if (config_.guided()) guide_ = RunDirectory::load_guide(ctx, run_dir);
     if (lagged()) {
       guide_before_ = RunDirectory::load_guide_before(ctx, run_dir, guide_->config());
@@ -100,6 +120,8 @@ Trainer::Trainer(cl::Context& ctx, const geometry::Geometry& geometry, TrainConf
     }
     run_->start(config_, scene::fingerprint(geometry.scene()));
   }
+  // Before the ranks share rank 0's state: the average travels with it. A resumed run brings its own.
+  if (network_ && config_.average_steps > 0 && !network_->averaging()) network_->start_average();
   share_rank0_state();
   if (lagged()) {
     if (!guide_before_) guide_before_ = std::make_unique<nn::Network>(ctx, guide_->config());
@@ -195,6 +217,7 @@ StepStats Trainer::step() {
     network_->backward(train_ctx_, d_output_);
     exchange_.reduce(*network_);
     network_->adam_step();
+    if (network_->averaging()) network_->update_average(float(config_.average_decay(long(network_->steps()) - 1)));
   }
   if (guide_) {
     // The I-Module learns from the same samples and the N-Module's radiance before its update (sg(L_α)).
@@ -334,7 +357,12 @@ void Trainer::run(const RunOptions& options) {
   // The model's figures for `now`'s row, timed out of the training time.
   const auto evaluation = [&](long now) {
     const auto evaluate_start = std::chrono::steady_clock::now();
-    const std::optional<image::Metrics> m = guarded(options.evaluate);
+    // The model evaluated is the weight average, swapped in for the evaluation only (and back before a failed
+    // evaluation's checkpoint is written).
+    const std::optional<image::Metrics> m = guarded([&] {
+      const AverageSwapped average(*network_);
+      return options.evaluate();
+    });
     outside_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - evaluate_start).count();
     last_evaluated = now;
     return m;

@@ -33,6 +33,7 @@ void Trainer::share_rank0_state() {
   if (!writes_run_dir()) {
     config_ = parse_train_config(parse_json(text, "rank 0's config"));
     network_ = std::make_unique<nn::Network>(*ctx_, nn::network_config_from_json(config_.network));
+    if (config_.average_steps > 0) network_->start_average();  // so that its tensors are rank 0's
     if (config_.guided()) guide_ = std::make_unique<nn::Network>(*ctx_, nn::network_config_from_json(config_.guide));
   }
   if (std::size_t(config_.batch) < std::size_t(ranks.size()))

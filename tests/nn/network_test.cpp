@@ -247,6 +247,55 @@ TEST_F(CheckpointTest, RoundTripReproducesTheNextStep) {
   }
 }
 
+// The weight average against a double twin over a few Adam steps; it travels in a checkpoint beside the
+// parameters, and swap_average / adopt_average put it in their place.
+TEST_F(CheckpointTest, WeightAverageFollowsItsTwinAndTravelsInTheCheckpoint) {
+  const auto cfg = small_network();
+  const std::size_t rows = 64;
+  const auto raw = raw_rows(rows, 3);
+  std::vector<float> target(rows * 3, 0.3f);
+  cl::Buffer<float> draw(ctx(), std::span<const float>(raw)), dt(ctx(), std::span<const float>(target)),
+      grad(ctx(), rows * 3);
+  nn::Network net(ctx(), cfg);
+  EXPECT_FALSE(net.averaging());
+  EXPECT_FALSE(net.checkpoint().has("mlp.average"));
+  net.start_average();
+  ASSERT_TRUE(net.averaging());
+  const auto params = [&] {
+    auto p = net.mlp().params().read();
+    const auto t = net.encoder().grid()->params().read();
+    p.insert(p.end(), t.begin(), t.end());
+    return p;
+  };
+  const auto p0 = params();
+  std::vector<double> twin(p0.begin(), p0.end());
+  nn::NetworkContext c;
+  for (const float d : {0.5f, 0.9f, 0.99f}) {
+    step(net, draw, dt, rows, c, grad);
+    net.update_average(d);
+    const auto p = params();
+    for (std::size_t i = 0; i < twin.size(); ++i) twin[i] = d * twin[i] + (1.0 - d) * p[i];
+  }
+  const auto live = params();
+  net.swap_average();
+  EXPECT_TRUE(all_near(std::span<const float>(params()), std::span<const double>(twin)));
+  EXPECT_NE(params(), live) << "the average is not the parameters";
+  net.swap_average();
+  EXPECT_EQ(params(), live) << "swapping twice restores the parameters";
+
+  const auto file = path("averaged.clr");
+  net.save(file);
+  nn::Network resumed(ctx(), cfg);
+  resumed.load(file);
+  ASSERT_TRUE(resumed.averaging()) << "a checkpoint with an average resumes averaging";
+  EXPECT_EQ(resumed.mlp().params().read(), net.mlp().params().read());
+  resumed.adopt_average();
+  EXPECT_FALSE(resumed.averaging());
+  net.swap_average();
+  EXPECT_EQ(resumed.mlp().params().read(), net.mlp().params().read()) << "the adopted parameters are the average";
+  EXPECT_EQ(resumed.encoder().grid()->params().read(), net.encoder().grid()->params().read());
+}
+
 TEST_F(CheckpointTest, DamagedFilesAreInputErrors) {
   nn::Network net(ctx(), small_network());
   const auto file = path("good.clr");

@@ -81,6 +81,15 @@ TEST(TrainConfig, LearningRateWarmsUpLinearlyOverItsSteps) {
   EXPECT_THAT(error_of({{"learning_rate_warmup", 2.5}}), HasSubstr("learning_rate_warmup"));
 }
 
+TEST(TrainConfig, WeightAverageWarmsUpToItsTimeConstant) {
+  TrainConfig c;
+  c.average_steps = 100;
+  EXPECT_NEAR(c.average_decay(0), 0.1, 1e-12) << "the first average is mostly the newest parameters";
+  EXPECT_NEAR(c.average_decay(80), 81.0 / 90.0, 1e-12);
+  EXPECT_NEAR(c.average_decay(5000), 0.99, 1e-12) << "then 1 - 1/average_steps";
+  EXPECT_THAT(error_of({{"average_steps", -5}}), HasSubstr("average_steps"));
+}
+
 TEST(TrainConfig, RelativeResidualFadesToL2OverTheBudget) {
   TrainConfig c;
   EXPECT_EQ(c.relative_power(0.0), 0.5) << "the default ceiling";

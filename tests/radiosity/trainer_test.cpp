@@ -211,6 +211,46 @@ void Training::isnr_resume_is_bit_exact(int lag) {
   }
 }
 
+// With a weight average, evaluation sees the average (not the parameters), model.clr keeps both, a resumed run
+// continues both bit for bit, and a model loaded to be rendered is the average.
+TEST_F(Training, WeightAverageIsWhatIsEvaluatedResumedAndRendered) {
+  const auto scene = scene::load_scene(kScenes / "cornell-box.xml", {{"res", "16"}});
+  const geometry::Geometry geometry(scene);
+  auto config = small_config(40);
+  config.method = radiosity::Method::Nr;
+  config.average_steps = 10;
+  config.anneal_start = 1.0;  // schedules of the budget would differ between a 20- and a 40-step session
+  config.relative_fade_end = 0.0;
+  TempRun straight("avg_straight"), halves("avg_halves");
+  radiosity::Trainer a(ctx(), geometry, config, straight.path, false);
+  ASSERT_TRUE(a.network().averaging());
+  std::vector<float> evaluated;
+  radiosity::Trainer::RunOptions options;
+  options.evaluate_every = 1000;  // the run's last step only
+  options.evaluate = [&]() -> std::optional<image::Metrics> {
+    evaluated = a.network().mlp().params().read();
+    return std::nullopt;
+  };
+  a.run(options);
+  const auto live = a.network().mlp().params().read();
+  ASSERT_FALSE(evaluated.empty());
+  EXPECT_NE(evaluated, live) << "the evaluation saw the average, not the parameters";
+  const auto rendered = radiosity::RunDirectory::load_radiance(ctx(), straight.path);
+  EXPECT_FALSE(rendered->averaging());
+  EXPECT_EQ(rendered->mlp().params().read(), evaluated) << "the model rendered is the average evaluated";
+  EXPECT_EQ(radiosity::RunDirectory::load_radiance(ctx(), straight.path, true)->mlp().params().read(), live);
+
+  auto first = config;
+  first.steps = 20;
+  radiosity::Trainer(ctx(), geometry, first, halves.path, false).run();
+  radiosity::Trainer b(ctx(), geometry, config, halves.path, true);
+  ASSERT_TRUE(b.network().averaging());
+  b.run();
+  EXPECT_EQ(b.network().mlp().params().read(), live);
+  EXPECT_EQ(radiosity::RunDirectory::load_radiance(ctx(), halves.path)->mlp().params().read(), evaluated)
+      << "the resumed run's average is the uninterrupted run's";
+}
+
 // The pipelined step (step k+1's batch prepared on the host while the device runs step k) trains exactly what the
 // serial step trains: NR (points and traced incident half ahead), ISNR with guided directions (points ahead) and
 // ISNR with c = 1 throughout (both ahead). Each pipelined run must actually have used batches prepared ahead.
