@@ -131,6 +131,8 @@ nlohmann::ordered_json describe_network(const NetworkConfig& config, const std::
   }
   json described = json::parse(to_json(config).dump());
   described["output_scale"] = config.output_scale;  // to_json leaves out the default
+  json albedo_factor = nullptr;
+  if (config.albedo_factor) albedo_factor = {{"input", "albedo"}, {"floor", kAlbedoFloor}};
   return {{"prefix", prefix},
           {"raw_input",
            {{"columns", kRawInputs},
@@ -143,9 +145,10 @@ nlohmann::ordered_json describe_network(const NetworkConfig& config, const std::
           {"encoded_columns", column},
           {"mlp", layers},
           {"output_scale", config.output_scale},
+          {"albedo_factor", albedo_factor},
           {"output",
-           "output_scale * activation(W x + b) of the last layer; hidden layers h = relu(W x + b); x = the encoding's "
-           "columns in order"},
+           "output_scale * activation(W x + b) of the last layer, times max(albedo, floor) per channel where "
+           "albedo_factor is not null; hidden layers h = relu(W x + b); x = the encoding's columns in order"},
           {"config", described}};
 }
 

@@ -30,8 +30,21 @@ nn::SafeTensors export_model(const fs::path& run, bool optimizer_state) {
   if (!fs::exists(run)) throw InputError("run " + run.string() + " not found");
   const fs::path model = fs::is_directory(run) ? RunDirectory::model_path(run) : run;
   const fs::path dir = fs::is_directory(run) ? run : run.parent_path();
-  const nn::Checkpoint c = nn::read_checkpoint(model.string());
+  nn::Checkpoint c = nn::read_checkpoint(model.string());
   const std::string file = model.string();
+  // A run with a weight average renders the average (TrainConfig::average_steps): the N-Module exported is that
+  // model, and the parameters training would resume from follow flat, as "training.mlp.params" and
+  // "training.grid.table" (not with --weights-only).
+  const bool averaged = c.has("mlp.average");
+  if (averaged)
+    for (auto& [name, values] : c.tensors) {
+      if (name == "mlp.params" || name == "grid.table")
+        name = "training." + name;
+      else if (name == "mlp.average")
+        name = "mlp.params";
+      else if (name == "grid.average")
+        name = "grid.table";
+    }
   const nn::NetworkConfig radiance =
       network_config(parse_json(c.config_json, "the network config of checkpoint " + file), "checkpoint " + file);
 
@@ -52,6 +65,9 @@ nn::SafeTensors export_model(const fs::path& run, bool optimizer_state) {
   std::set<std::string> taken;
   nlohmann::ordered_json networks = nlohmann::ordered_json::object();
   nn::add_network_tensors(c, file, radiance, "", optimizer_state, out, taken);
+  // The trained parameters behind an average are training state, as the moments are: not weights.
+  if (averaged && !optimizer_state)
+    for (const char* name : {"training.mlp.params", "training.grid.table"}) taken.insert(name);
   networks["n_module"] = nn::describe_network(radiance, "");
   if (guide) {
     nn::add_network_tensors(c, file, *guide, "guide.", optimizer_state, out, taken);
@@ -70,6 +86,7 @@ nn::SafeTensors export_model(const fs::path& run, bool optimizer_state) {
   out.metadata["format_version"] = "1";
   out.metadata["producer"] = std::string("clradiosity ") + CLR_VERSION;
   out.metadata["step"] = std::to_string(c.step);
+  if (averaged) out.metadata["n_module_parameters"] = "weight average (training.* holds the trained parameters)";
   out.metadata["networks"] = networks.dump();
   if (settings.is_object()) out.metadata["train_config"] = settings.dump();
   if (fs::exists(RunDirectory::scene_path(dir)))

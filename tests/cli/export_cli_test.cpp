@@ -157,6 +157,57 @@ TEST_F(ExportCli, EveryTensorIsThereInItsLayout) {
     EXPECT_EQ(t.name.find("adam."), std::string::npos) << "--weights-only keeps " << t.name;
 }
 
+// A run with a weight average and the albedo factor: the N-Module exported is the average (what render draws),
+// numpy evaluates it with the factor as the engine does, and the trained parameters follow as training.*.
+class ExportAveragedCli : public CliRunDir {
+ protected:
+  ExportAveragedCli()
+      : CliRunDir("export_avg_cli",
+                  {{"method", "nr"},
+                   {"average_steps", 5},
+                   {"network", {{"albedo_factor", true}, {"encoder", {{"grid", {{"log2_table", 13}}}}}}}}) {}
+};
+
+TEST_F(ExportAveragedCli, TheWeightAverageIsTheExportedModel) {
+  const fs::path run = dir / "run", model = dir / "model.safetensors", weights = dir / "weights.safetensors";
+  auto r = run_cli("train " + kBox + " --steps 30 --learning-rate 0.05 --config " + config + " -o " + run.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_EQ(run_cli("export " + run.string() + " -o " + model.string()).exit_code, 0);
+  ASSERT_EQ(run_cli("export " + run.string() + " --weights-only -o " + weights.string()).exit_code, 0);
+  const auto checkpoint = nn::read_checkpoint((run / "model.clr").string());
+  const auto stored = [&](const std::string& name) -> const std::vector<float>& {
+    for (const auto& [n, v] : checkpoint.tensors)
+      if (n == name) return v;
+    throw std::runtime_error(name + " is not in model.clr");
+  };
+  const auto file = nn::read_safetensors(model);
+  std::map<std::string, const nn::SafeTensor*> by_name;
+  for (const auto& t : file.tensors) by_name[t.name] = &t;
+  const auto* w0 = by_name.at("mlp.layers.0.weight");
+  const std::size_t out = w0->shape[0], in = w0->shape[1];
+  const auto& average = stored("mlp.average");
+  EXPECT_NE(average, stored("mlp.params"));
+  for (std::size_t o = 0; o < out; ++o)
+    for (std::size_t i = 0; i < in; ++i) ASSERT_EQ(w0->values[o * in + i], average[i * out + o]) << o << "," << i;
+  EXPECT_EQ(by_name.at("training.mlp.params")->values, stored("mlp.params"));
+  EXPECT_EQ(by_name.at("training.grid.table")->values, stored("grid.table"));
+  EXPECT_TRUE(file.metadata.contains("n_module_parameters"));
+  for (const auto& t : nn::read_safetensors(weights).tensors)
+    EXPECT_EQ(t.name.find("training."), std::string::npos) << "--weights-only keeps " << t.name;
+
+  cl::Context* ctx = shared_context();
+  if (!ctx) GTEST_SKIP() << "no OpenCL device";
+  const std::string py = test_python();
+  if (py.empty()) GTEST_SKIP() << "safetensors and numpy could not be installed into " CLR_PYTHON_VENV " (pip)";
+  const auto rows = random_rows(384);
+  write_floats(dir / "rows.f32", rows);
+  auto radiance = radiosity::RunDirectory::load_radiance(*ctx, run);
+  write_floats(dir / "n_module.f32", infer(*ctx, *radiance, rows));
+  const std::string cmd = "'" + py + "' '" CLR_SOURCE_DIR "/tests/cli/export_eval.py' '" + model.string() +
+                          "' n_module '" + (dir / "rows.f32").string() + "' '" + (dir / "n_module.f32").string() + "'";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << "numpy's evaluation of the averaged, albedo-factored model differs";
+}
+
 TEST_F(ExportCli, BadInputExitsTwoBeforeWriting) {
   const fs::path run = train();
   const auto refused = [&](const std::string& args, const std::string& fragment) {

@@ -93,7 +93,12 @@ def evaluate(network, tensors, rows, without_grid=False):
     for layer in network["mlp"]:
         h = h @ tensors[layer["weight"]].astype(np.float64).T + tensors[layer["bias"]].astype(np.float64)
         h = {"relu": lambda v: np.maximum(v, 0.0), "abs": np.abs, "none": lambda v: v}[layer["activation"]](h)
-    return network["output_scale"] * h
+    h = network["output_scale"] * h
+    factor = network.get("albedo_factor")
+    if factor:
+        a, b = raw[factor["input"]]
+        h = h * np.maximum(rows[:, a:b].astype(np.float64), factor["floor"])
+    return h
 
 
 def main():
