@@ -323,5 +323,65 @@ TEST(RoughDiffuse, LambertianWhenSmoothAndReciprocal) {
     }
 }
 
+// Mitsuba 3.9's bumpmap and normalmap around the nested BSDF (scene::BsdfPoint), against a double-precision twin:
+// Estevez et al.'s shadowing term 2 / (1 + √(1 + α²·tan²θi)), α² = min(tan²θn / 8, 1), on f and on the sample
+// weight, and a tilt the viewer sees from the wrong side mirrored about the untilted normal. Without the two, a
+// bump-mapped principled glass rendered 1.2 % brighter than in Mitsuba (docs/scenes.md).
+double shadowing_twin(const glm::dvec3& tilted, const glm::dvec3& untilted, const glm::dvec3& wi) {
+  const double cn = glm::dot(tilted, untilted), ci = glm::dot(wi, untilted);
+  const double alpha2 = std::min(0.125 * (1 - cn * cn) / (cn * cn), 1.0);
+  return 2.0 / (1.0 + std::sqrt(1.0 + alpha2 * (1 - ci * ci) / (ci * ci)));
+}
+
+TEST(BumpedFrames, ShadowTheBsdfAndMirrorATiltSeenFromBelow) {
+  const scene::Diffuse diffuse(Rgb(0.6f));
+  const Vec3 up(0, 0, 1), tilted = glm::normalize(Vec3(-1, 0, 2));  // tan θn = 1/2: α² = 1/32
+  const scene::BsdfPoint p{&diffuse, scene::Frame(tilted), {}, up};
+  const glm::dvec3 up_d(0, 0, 1);
+  // wi 60° from the untilted normal: tan²θi = 3, a fixed value as well as the twin's.
+  const Vec3 wi = glm::normalize(Vec3(0, std::sqrt(3.0f), 1));
+  EXPECT_NEAR(p.shadowing(p.frame, wi), 2.0 / (1.0 + std::sqrt(1.0 + 3.0 / 32)), 1e-6);
+
+  const auto lambert = [&](const glm::dvec3& n, const Vec3& w, const Vec3& to) {
+    return 0.6 / scene::kPi * std::max(0.0, glm::dot(n, glm::dvec3(to))) *
+           shadowing_twin(n, up_d, glm::dvec3(glm::normalize(glm::dvec3(w))));
+  };
+  // A viewer above both normals: the tilted frame as it is, f·cos times the shadowing.
+  const Vec3 wo = glm::normalize(Vec3(-1, 0, 3));
+  for (const Vec3& w : {wi, glm::normalize(Vec3(0.3f, -0.2f, 1)), glm::normalize(Vec3(-0.8f, 0.1f, 0.3f))})
+    EXPECT_NEAR(p.eval(wo, w).x, lambert(glm::dvec3(tilted), w, w), 1e-6) << w.x << " " << w.y << " " << w.z;
+
+  // A viewer above the untilted normal and below the tilted one: the frame is the tilt mirrored, n' ∝ (1, 0, 2).
+  // Without the mirror the diffuse lobe, seen from below, was black there.
+  const Vec3 grazing = glm::normalize(Vec3(1, 0, 0.2f));
+  ASSERT_LT(glm::dot(grazing, tilted), 0.0f);
+  const glm::dvec3 mirrored = glm::normalize(glm::dvec3(1, 0, 2));
+  EXPECT_NEAR(glm::length(glm::dvec3(p.frame_seen_from(grazing).n) - mirrored), 0.0, 1e-6);
+  EXPECT_NEAR(p.eval(grazing, wi).x, lambert(mirrored, wi, wi), 1e-6);
+  EXPECT_GT(p.eval(grazing, wi).x, 0.0f);
+  // Below the mirrored normal but above the untilted one: no light across it.
+  EXPECT_EQ(p.eval(grazing, glm::normalize(Vec3(-1, 0, 0.2f))).x, 0.0f);
+
+  // Samples carry the shadowing in their weight (the density is the nested BSDF's): weight = eval / pdf.
+  Pcg32 rng(5, 7);
+  for (const Vec3& from : {wo, grazing})
+    for (int i = 0; i < 200; ++i) {
+      const auto s = p.sample(from, rng.next_float(), {rng.next_float(), rng.next_float()});
+      if (!s) continue;
+      EXPECT_NEAR(s->weight.x, p.eval(from, s->wi).x / p.pdf(from, s->wi), 1e-4f);
+      EXPECT_LT(s->weight.x, 0.6f + 1e-6f);  // the diffuse albedo, less what the shadowing takes
+    }
+
+  // A smooth glass seen from the wrong side of the tilt is entered from outside, at the mirrored normal: its
+  // reflection is the mirror image about n', its weight Fresnel's share (chosen with that probability) shadowed.
+  const scene::Dielectric glass(scene::Dielectric::Kind::smooth, 1.5f, Rgb(1.0f), Rgb(1.0f), std::nullopt);
+  const scene::BsdfPoint g{&glass, scene::Frame(tilted), {}, up};
+  const auto r = g.sample(grazing, 0.0f, {0.5f, 0.5f});  // u_lobe 0: the reflection
+  ASSERT_TRUE(r.has_value());
+  const glm::dvec3 want = 2.0 * glm::dot(glm::dvec3(grazing), mirrored) * mirrored - glm::dvec3(grazing);
+  EXPECT_NEAR(glm::length(glm::dvec3(r->wi) - want), 0.0, 1e-5);
+  EXPECT_NEAR(r->weight.x, shadowing_twin(mirrored, up_d, want), 1e-5);
+}
+
 }  // namespace
 }  // namespace clr::test
