@@ -81,6 +81,7 @@ std::vector<std::string> apply_paper(TrainConfig& config, const cl::DeviceInfo& 
   config.batch = P::batch;
   config.samples = P::samples;
   config.residual = Residual::L2;
+  config.average_steps = 0;  // the paper renders the network it trained
   config.network["width"] = P::width;
   config.network["adam"]["learning_rate"] = P::learning_rate;
   config.guide["adam"]["learning_rate"] = P::learning_rate;
@@ -92,7 +93,8 @@ std::vector<std::string> apply_paper(TrainConfig& config, const cl::DeviceInfo& 
                                        {"growth", growth}};
   std::snprintf(
       line, sizeof line,
-      "N-Module width %zu, N = %d, Adam %g for both modules, the plain L2 residual (ISNR §4.3, §5.1, Eq. 10); "
+      "N-Module width %zu, N = %d, Adam %g for both modules, the plain L2 residual (ISNR §4.3, §5.1, Eq. 10), the "
+      "trained parameters rendered (no weight average); "
       "batch %d, which the paper does not state (docs/presets.md: why this one)%s",
       P::width, P::samples, P::learning_rate, P::batch,
       device.type == cl::DeviceType::Gpu

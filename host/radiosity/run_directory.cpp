@@ -218,6 +218,8 @@ TrainConfig RunDirectory::load_config(const fs::path& run) {
   if (saved.is_object() && !saved.contains("relative_warmup")) saved["relative_warmup"] = 0.0;
   // Runs written before the power's ceiling existed reached power 1.
   if (saved.is_object() && !saved.contains("relative_power_max")) saved["relative_power_max"] = 1.0;
+  // Runs written before the weight average existed rendered their parameters.
+  if (saved.is_object() && !saved.contains("average_steps")) saved["average_steps"] = 0;
   try {
     return parse_train_config(saved);
   } catch (const InputError& e) {

@@ -75,8 +75,10 @@ struct TrainConfig {
   // The model rendered and evaluated is an exponential moving average of the N-Module's parameters over about this
   // many steps (0: the parameters themselves). Training steps the parameters as before; the average smooths the
   // swings that the estimator's noise drives them through (docs/method.md, "The weight average"). Early steps
-  // average over fewer: the weight of the newest parameters is max(1/average_steps, 9/(10 + step)).
-  long average_steps = 0;
+  // average over fewer: the weight of the newest parameters is max(1/average_steps, 9/(10 + step)). 100: on Veach
+  // Ajar it held the image's mean within 0.89–1.41 of the reference's from a fifth of a 1500-step budget on
+  // (0.83–1.39 without) at no cost in MAPE.
+  long average_steps = 100;
   // The relative residual's denominator power falls linearly from 1 to 0 (plain L2) by the fraction
   // `relative_fade_end` of the budget, as the NR authors' code can; 0 keeps it at 1. The relative residual weighs
   // dark regions like bright ones, but it barely resists a solution scaled up as a whole (its pull is 2r/L²) and

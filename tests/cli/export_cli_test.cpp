@@ -29,11 +29,14 @@ using ::testing::HasSubstr;
 const std::string kBox = (fs::path(CLR_SOURCE_DIR) / "scenes" / "cornell-box.xml").string();
 
 // log2_table 13 gives the N-Module a dense first level and hashed finer ones (the I-Module's defaults have both
-// too); guide_lag 1 puts the lagged guide's copy in the checkpoint.
+// too); guide_lag 1 puts the lagged guide's copy in the checkpoint; no weight average, so that the exported N-Module
+// is model.clr's parameters (ExportAveragedCli below exports an average).
 class ExportCli : public CliRunDir {
  protected:
   ExportCli()
-      : CliRunDir("export_cli", {{"guide_lag", 1}, {"network", {{"encoder", {{"grid", {{"log2_table", 13}}}}}}}}) {}
+      : CliRunDir(
+            "export_cli",
+            {{"guide_lag", 1}, {"average_steps", 0}, {"network", {{"encoder", {{"grid", {{"log2_table", 13}}}}}}}}) {}
 
   // A short ISNR run with a high learning rate, so that the hash grids' entries move far from their ±1e-4 start
   // and an evaluation that got the grid wrong cannot pass.

@@ -81,6 +81,7 @@ TEST(Preset, PaperTakesThePapersSettingsOnEveryDevice) {
     // The finest level at the cited work's N_max: N_min · b^(L−1).
     EXPECT_NEAR(grid["base_resolution"].get<double>() * std::pow(grid["growth"].get<double>(), 15.0), 2048, 1e-6);
     EXPECT_GT(c.steps, 0) << "a step budget where none was given";
+    EXPECT_EQ(c.average_steps, 0) << "the network trained is the one rendered";
     EXPECT_THAT(why.back(), ::testing::HasSubstr("no parameters")) << "says what the paper leaves open";
     // The settings are valid as a whole (a config file with them is accepted).
     EXPECT_NO_THROW(c.validate());

@@ -304,6 +304,8 @@ TEST_F(RunDirectoryTest, ARunWithoutAMethodIsNr) {
   const TrainConfig config = RunDirectory::load_config(dir);
   EXPECT_EQ(config.method, Method::Nr);
   EXPECT_EQ(config.samples, 8);
+  EXPECT_EQ(config.average_steps, 0) << "a run written before the weight average rendered its parameters";
+  EXPECT_EQ(TrainConfig{}.average_steps, 100) << "where a new run averages";
 }
 
 TEST_F(RunDirectoryTest, AMalformedConfigNamesTheFile) {
