@@ -36,7 +36,7 @@ PathEnd trace_to_surface(const geometry::Geometry& geometry, geometry::Ray ray, 
     const scene::BsdfPoint bsdf = p.bsdf(scene);
     if (bsdf.bsdf->has_non_delta()) {
       // The black side of a one-sided surface scatters nothing: the path ends with what it has, no lookup.
-      end.at_surface = bsdf.bsdf->two_sided() || glm::dot(wo, p.frame.n) > 0.0f;
+      end.at_surface = bsdf.seen_from_scattering_side(wo);
       end.point = p;
       end.wo = wo;
       return end;

@@ -52,11 +52,12 @@ void sample_training_points(const geometry::SurfaceSampler& sampler, const scene
     for (std::size_t m = first; m < last; ++m) {
       Pcg32 rng(settings.first_point + m, stream_id(seed, step, 1));
       const auto& x = batch.surface[m];
-      // ω_o uniform over the directions the surface can scatter into: the whole sphere for two-sided BSDFs,
-      // the hemisphere above the shading normal for one-sided ones (their black side is never queried).
+      // ω_o uniform over the directions the surface can scatter into (its black side is never queried): the whole
+      // sphere for two-sided BSDFs, else mirrored into the scattering side's hemisphere.
+      const scene::BsdfPoint bp = x.point.bsdf(scene);
+      const Vec3 up = bp.untilted_normal != Vec3(0.0f) ? bp.untilted_normal : x.point.frame.n;
       Vec3 wo = scene::sample_uniform_sphere({rng.next_float(), rng.next_float()});
-      if (!x.point.bsdf(scene).bsdf->two_sided() && glm::dot(wo, x.point.frame.n) < 0.0f)
-        wo -= 2.0f * glm::dot(wo, x.point.frame.n) * x.point.frame.n;
+      if (!bp.seen_from_scattering_side(wo)) wo -= 2.0f * glm::dot(wo, up) * up;
       batch.wo[m] = wo;
       write_raw_row(scene, x.point, wo, &batch.point_rows[m * R]);
     }

@@ -106,6 +106,13 @@ struct BsdfPoint {
     return s;
   }
 
+  // Whether a viewer at `wo_world` sees the side that scatters: any side of a two-sided BSDF, else the side above
+  // the normal before a tilt (a viewer there sees the tilt mirrored to its side: frame_seen_from), or above the
+  // shading normal where nothing tilted it.
+  bool seen_from_scattering_side(const Vec3& wo_world) const {
+    const Vec3& n = untilted_normal != Vec3(0.0f) ? untilted_normal : frame.n;
+    return bsdf->two_sided() || glm::dot(wo_world, n) > 0.0f;
+  }
   // The frame the BSDF is evaluated in for a viewer at `wo_world`: `frame`, or where the viewer is on one side of
   // the tilted normal and the other side (or in the plane) of the untilted one, `frame` with its tilt mirrored about
   // the untilted normal (Mitsuba negates the tilted normal's tangential part in the untilted frame: n' = 2(n·u)u − n).

@@ -361,6 +361,13 @@ TEST(BumpedFrames, ShadowTheBsdfAndMirrorATiltSeenFromBelow) {
   EXPECT_GT(p.eval(grazing, wi).x, 0.0f);
   // Below the mirrored normal but above the untilted one: no light across it.
   EXPECT_EQ(p.eval(grazing, glm::normalize(Vec3(-1, 0, 0.2f))).x, 0.0f);
+  // Training and the model's renders take the side a viewer scatters from as eval does: above the untilted normal.
+  EXPECT_TRUE(p.seen_from_scattering_side(grazing)) << "lit, though below the tilted normal";
+  EXPECT_FALSE(p.seen_from_scattering_side(glm::normalize(Vec3(-1, 0, -0.2f)))) << "below the untilted normal";
+  EXPECT_EQ(p.eval(glm::normalize(Vec3(-1, 0, -0.2f)), wi).x, 0.0f);
+  const scene::BsdfPoint flat{&diffuse, scene::Frame(up), {}, Vec3(0.0f)};
+  EXPECT_FALSE(flat.seen_from_scattering_side(grazing * Vec3(1, 1, -1))) << "no tilt: the shading normal's side";
+  EXPECT_TRUE(flat.seen_from_scattering_side(grazing));
 
   // Samples carry the shadowing in their weight (the density is the nested BSDF's): weight = eval / pdf.
   Pcg32 rng(5, 7);
