@@ -73,6 +73,15 @@ std::vector<float> random_rows(std::size_t n) {
   return rows;
 }
 
+// tests/cli/export_eval.py on network `name` of the safetensors file `model`: its exit status (0 when numpy's outputs
+// for dir/rows.f32 match the engine's in dir/NAME.f32).
+int numpy_evaluation(const std::string& py, const fs::path& model, const fs::path& dir, const std::string& name,
+                     const std::string& flags = "") {
+  return std::system(("'" + py + "' '" CLR_SOURCE_DIR "/tests/cli/export_eval.py' '" + model.string() + "' " + name +
+                      " '" + (dir / "rows.f32").string() + "' '" + (dir / (name + ".f32")).string() + "' " + flags)
+                         .c_str());
+}
+
 std::vector<float> infer(cl::Context& ctx, nn::Network& network, const std::vector<float>& rows) {
   const std::size_t n = rows.size() / nn::kRawInputs;
   cl::Buffer<float> in(ctx, std::span<const float>(rows)), out(ctx, n * network.outputs());
@@ -98,18 +107,13 @@ TEST_F(ExportCli, NumpyEvaluatesEveryNetworkAsTheEngineDoes) {
   ASSERT_TRUE(before) << "guide_lag 1 should store the guide before its last update";
   const std::map<std::string, nn::Network*> networks = {
       {"n_module", radiance.get()}, {"i_module", guide.get()}, {"i_module_before_update", before.get()}};
-  const std::string script = CLR_SOURCE_DIR "/tests/cli/export_eval.py";
-  const auto evaluate = [&](const std::string& name, const std::string& flags) {
-    return std::system(("'" + py + "' '" + script + "' '" + model.string() + "' " + name + " '" +
-                        (dir / "rows.f32").string() + "' '" + (dir / (name + ".f32")).string() + "' " + flags)
-                           .c_str());
-  };
   for (const auto& [name, network] : networks) {
     write_floats(dir / (name + ".f32"), infer(*ctx, *network, rows));
-    EXPECT_EQ(evaluate(name, ""), 0) << name << ": numpy's evaluation differs from the engine's by more than 1e-5";
+    EXPECT_EQ(numpy_evaluation(py, model, dir, name), 0)
+        << name << ": numpy's evaluation differs from the engine's by more than 1e-5";
   }
   // The comparison sees the grid: without its features numpy's outputs are off.
-  EXPECT_NE(evaluate("n_module", "--without-grid"), 0);
+  EXPECT_NE(numpy_evaluation(py, model, dir, "n_module", "--without-grid"), 0);
 }
 
 TEST_F(ExportCli, EveryTensorIsThereInItsLayout) {
@@ -206,9 +210,8 @@ TEST_F(ExportAveragedCli, TheWeightAverageIsTheExportedModel) {
   write_floats(dir / "rows.f32", rows);
   auto radiance = radiosity::RunDirectory::load_radiance(*ctx, run);
   write_floats(dir / "n_module.f32", infer(*ctx, *radiance, rows));
-  const std::string cmd = "'" + py + "' '" CLR_SOURCE_DIR "/tests/cli/export_eval.py' '" + model.string() +
-                          "' n_module '" + (dir / "rows.f32").string() + "' '" + (dir / "n_module.f32").string() + "'";
-  EXPECT_EQ(std::system(cmd.c_str()), 0) << "numpy's evaluation of the averaged, albedo-factored model differs";
+  EXPECT_EQ(numpy_evaluation(py, model, dir, "n_module"), 0)
+      << "numpy's evaluation of the averaged, albedo-factored model differs";
 }
 
 TEST_F(ExportCli, BadInputExitsTwoBeforeWriting) {
