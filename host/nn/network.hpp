@@ -152,4 +152,21 @@ class Network {
                     cl::Buffer<float>& x, std::size_t off);
 };
 
+// The network's weight average in place of its parameters for a scope (nothing when it keeps none): what is
+// evaluated or previewed during training is the model a run renders.
+class AverageSwapped {
+ public:
+  explicit AverageSwapped(Network& net) : net_(net.averaging() ? &net : nullptr) {
+    if (net_) net_->swap_average();
+  }
+  ~AverageSwapped() {
+    if (net_) net_->swap_average();
+  }
+  AverageSwapped(const AverageSwapped&) = delete;
+  AverageSwapped& operator=(const AverageSwapped&) = delete;
+
+ private:
+  Network* net_;
+};
+
 }  // namespace clr::nn

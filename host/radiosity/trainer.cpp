@@ -23,27 +23,7 @@
 
 namespace clr::radiosity {
 
-namespace {
-
-// The network's weight average in place of its parameters for a scope (nothing when it keeps none).
-class AverageSwapped {
- public:
-  explicit AverageSwapped(nn::Network& net) : net_(net.averaging() ? &net : nullptr) {
-    if (net_) net_->swap_average();
-  }
-  ~AverageSwapped() {
-    if (net_) net_->swap_average();
-  }
-  AverageSwapped(const AverageSwapped&) = delete;
-  AverageSwapped& operator=(const AverageSwapped&) = delete;
-
- private:
-  nn::Network* net_;
-};
-
-}  // namespace
 namespace fs = std::filesystem;
-namespace {}  // namespace
 
 StepSchedule parse_step_schedule(const std::string& text) {
   if (text == "serial") return StepSchedule::Serial;
@@ -360,7 +340,7 @@ void Trainer::run(const RunOptions& options) {
     // The model evaluated is the weight average, swapped in for the evaluation only (and back before a failed
     // evaluation's checkpoint is written).
     const std::optional<image::Metrics> m = guarded([&] {
-      const AverageSwapped average(*network_);
+      const nn::AverageSwapped average(*network_);
       return options.evaluate();
     });
     outside_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - evaluate_start).count();

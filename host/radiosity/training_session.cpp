@@ -254,6 +254,7 @@ TrainOutcome train_run(const TrainRequest& request) {
   }
   const auto write_preview = [&] {
     return side_outputs.attempt("--preview " + opt.preview, [&] {
+      const nn::AverageSwapped average(trainer.network());  // the preview shows the model the run renders
       image::write_png(opt.preview, render(geometry, field, preview_settings(scene.camera)));
     });
   };
