@@ -2,7 +2,8 @@
 // settings on one scene, each in both schedules, take blocks of steps in turn (serial, pipelined, serial, ... in one
 // process, so that load from other processes falls on both alike); each figure is the median over the rounds of a
 // block's ms/step, the device's queue drained at the end of every block. The anchor is the serial schedule itself:
-// the pipeline must not be slower on a CPU device, where host and device share the cores.
+// the pipeline must not be slower on a CPU device, where host and device share the cores. Last, the host's incident
+// loop alone in thread-µs a sample, beside what a GPU step needs of it.
 // Usage: bench_pipeline [SCENE.xml] [rounds] [steps per block] (SCENE "" or none: the shared Cornell box, else the
 // bundled one; 7 rounds of 10 steps).
 #include <unistd.h>
@@ -18,6 +19,7 @@
 #include "cl/context.hpp"
 #include "geometry/geometry.hpp"
 #include "radiosity/trainer.hpp"
+#include "radiosity/training_lights.hpp"
 #include "scene/scene.hpp"
 #include "stage_report.hpp"
 
@@ -26,10 +28,42 @@ namespace {
 using namespace clr;
 namespace fs = std::filesystem;
 
+// The anchor of the host's incident loop: thread-µs an incident sample on the H100 machine's host before next-event
+// estimation (docs/nvidia.md), the bar with NEE included (issue 49) — on the H200's 16 cores the loop with NEE took
+// 0.70, and its NR step became host-bound.
+constexpr double kHostAnchorUs = 0.37;
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// The NR incident loop alone, with next-event estimation, on every host thread and with no device work in flight:
+// thread-µs an incident sample, split by part. Samples are drawn for `rounds` batches of the trainer's size.
+void print_host_incident_loop(const geometry::Geometry& geometry, const radiosity::TrainConfig& config, int rounds) {
+  const geometry::SurfaceSampler sampler(geometry.scene());
+  const geometry::LightSampler lights = radiosity::training_light_sampler(geometry.scene());
+  radiosity::BatchSettings settings;
+  settings.points = std::size_t(config.batch);
+  settings.samples = std::size_t(config.samples);
+  settings.next_event = true;
+  radiosity::TrainingBatch batch;
+  radiosity::HostStageTimes times;
+  for (int round = -2; round < rounds; ++round) {  // two rounds to warm the allocations up, untimed
+    batch.times = round < 0 ? nullptr : &times;
+    radiosity::sample_training_points(sampler, geometry.scene(), settings, config.seed, std::uint64_t(round + 2),
+                                      batch);
+    radiosity::trace_incident(geometry, settings, config.seed, std::uint64_t(round + 2), {}, batch,
+                              lights.empty() ? nullptr : &lights);
+  }
+  const double us = 1e6 / (double(rounds) * double(settings.points * settings.samples));
+  const double loop = times.bsdf_cpu + times.tracing_cpu + times.next_event_cpu;
+  std::printf(
+      "host incident loop alone (NR, NEE on, %d batches): %.3f thread-µs a sample = BSDF %.3f + tracing %.3f + next "
+      "events %.3f; anchor: at most %.2f (the H100 host's loop before NEE), %.2fx of it\n",
+      rounds, loop * us, times.bsdf_cpu * us, times.tracing_cpu * us, times.next_event_cpu * us, kHostAnchorUs,
+      loop * us / kHostAnchorUs);
 }
 
 }  // namespace
@@ -103,5 +137,6 @@ int main(int argc, char** argv) {
       bench::print_stages((std::string(rows[j].method) + (j == i ? " serial" : " pipelined")).c_str(), rows[j].host,
                           rows[j].device_s, rows[j].wall_s);
   }
+  print_host_incident_loop(geometry, rows[0].trainer->config(), 4 * rounds);
   return 0;
 }

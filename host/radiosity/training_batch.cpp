@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <mutex>
 
 #include "common/parallel.hpp"
@@ -20,17 +21,41 @@ std::uint64_t stream_id(std::uint64_t seed, std::uint64_t step, std::uint64_t us
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// Thread time of the incident loop's parts, kept per chunk and added once a chunk; the clock is read only when the
-// batch is timed (a few reads a sample would cost a tenth of the loop).
+double thread_cpu_seconds() {
+  timespec t{};
+  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+// Thread time of the incident loop's parts, kept per chunk and added once a chunk, only when the batch is timed.
+// The chunk's total is its thread CPU time, read at its ends (a system call each), so that a thread the kernel took
+// off its core for another process is not charged for the wait. Its split between the parts comes from wall-clock
+// laps over one point in kLapEvery: laps at every sample would cost a tenth of the loop.
 struct PartClock {
+  static constexpr std::size_t kLapEvery = 8;
   bool on;
-  Clock::time_point last = on ? Clock::now() : Clock::time_point{};
-  double bsdf = 0, tracing = 0, next_event = 0;
+  double cpu_start = on ? thread_cpu_seconds() : 0.0;
+  bool lapping = false;
+  Clock::time_point last{};
+  double bsdf = 0, tracing = 0, next_event = 0;  // the lapped points' wall seconds
+
+  void start_point(std::size_t m) {
+    lapping = on && m % kLapEvery == 0;
+    if (lapping) last = Clock::now();
+  }
   void lap(double& part) {
-    if (!on) return;
+    if (!lapping) return;
     const auto now = Clock::now();
     part += std::chrono::duration<double>(now - last).count();
     last = now;
+  }
+  // Adds the chunk's thread time, split as its laps split; call once, at its end.
+  void add_to(HostStageTimes& times) const {
+    const double cpu = thread_cpu_seconds() - cpu_start, laps = bsdf + tracing + next_event;
+    if (!(laps > 0)) return;
+    times.bsdf_cpu += cpu * bsdf / laps;
+    times.tracing_cpu += cpu * tracing / laps;
+    times.next_event_cpu += cpu * next_event / laps;
   }
 };
 
@@ -94,6 +119,7 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
   parallel_for(M, 64, [&](std::size_t first, std::size_t last) {
     PartClock clock{times != nullptr};
     for (std::size_t m = first; m < last; ++m) {
+      clock.start_point(m);
       Pcg32 rng(batch.first_point + m, stream_id(seed, step, 3));
       const auto& x = batch.surface[m];
       const Vec3& wo = batch.wo[m];
@@ -159,9 +185,7 @@ void trace_incident(const geometry::Geometry& geometry, const BatchSettings& set
     }
     if (times) {
       std::lock_guard lock(times_mutex);
-      times->bsdf_cpu += clock.bsdf;
-      times->tracing_cpu += clock.tracing;
-      times->next_event_cpu += clock.next_event;
+      clock.add_to(*times);
     }
   });
   if (times) {

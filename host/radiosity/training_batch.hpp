@@ -19,7 +19,7 @@ namespace clr::radiosity {
 
 // Host time of a batch's stages, summed over the steps that filled it (bench_guide, bench_pipeline: a host that
 // cannot keep up with the device shows here on any machine). Wall seconds, except the *_cpu parts of the incident
-// loop, which are seconds summed over its threads.
+// loop, which are its threads' CPU seconds summed (what other processes' load does not inflate).
 struct HostStageTimes {
   double points = 0;      // sample_training_points: points, ω_o, their input rows
   double guide_read = 0;  // the guided directions drawn and read back: the host waits for the device's work before
