@@ -1,20 +1,30 @@
-// Mitsuba 3 as the peer of every corpus scene (../shared/scenes-corpus) that both renderers load: our path tracer
-// and Mitsuba's (tests/reference/mitsuba_render.py, scalar_rgb) at a low resolution and the same spp and max_depth
-// agree within the bounds of mitsuba_peer_slow_test.cpp — 1 % on the channel means and 2 % on the median 8×8-block
-// error, widened by the noise of both renders (mitsuba_peer.hpp). Scenes we refuse are the corpus test's business;
-// scenes Mitsuba cannot load (the script exits 3) have no peer. Skipped where `import mitsuba` fails or the corpus is
-// absent.
+// Mitsuba 3 as the peer of every corpus scene (../shared/scenes-corpus, or the folder CLRADIOSITY_SCENES_CORPUS names)
+// that both renderers load: our path tracer and Mitsuba's (tests/reference/mitsuba_render.py, scalar_rgb) at a low
+// resolution and the same spp and max_depth, each with 10 seeds, agree in the channel means within 0.2 % plus three
+// standard errors of the ratio, and in the median 8×8-block error within 1 % plus three of its standard errors
+// (peer_judgement.hpp); a scene whose noise would leave the mean bound above 0.4 % is rendered again at a higher spp,
+// so that a 0.5 % bias fails. Scenes with a known, documented difference (docs/scenes.md) are judged around it, each
+// named below with its reason. Scenes we refuse are the corpus test's business; scenes Mitsuba cannot load (the
+// script exits 3) have no peer. Skipped where `import mitsuba` fails or the corpus is absent.
+//
+// With CLRADIOSITY_PEER_TSV set, each scene's verdict is appended to that file as a row (the results tables of
+// docs/results/scenes.md).
 #include <gtest/gtest.h>
 
+#include <array>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <optional>
+#include <string_view>
 
 #include "common/error.hpp"
 #include "geometry/geometry.hpp"
 #include "reference/agreement.hpp"
 #include "reference/mitsuba_peer.hpp"
 #include "reference/path_tracer.hpp"
+#include "reference/peer_judgement.hpp"
 #include "scene/scene.hpp"
 #include "support/scenes_corpus.hpp"
 
@@ -22,7 +32,37 @@ namespace clr::test {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr int kSize = 48, kSpp = 256;  // the longer side; samples per pixel of each renderer
+constexpr int kSize = 48;  // pixels on the longer side
+
+// Differences between the two renderers that are understood (docs/scenes.md, "The corpus peer's known
+// differences"): the scene's channel means are judged around `expected` (ours / Mitsuba's − 1 per channel, as
+// measured) with the same bound as any other scene.
+struct KnownDifference {
+  std::string_view dir;
+  std::array<double, 3> expected;
+  std::string_view reason;
+};
+constexpr KnownDifference kKnown[] = {
+    {"", {}, ""},  // none yet
+};
+
+const KnownDifference* known_difference(std::string_view dir) {
+  for (const auto& k : kKnown)
+    if (!k.dir.empty() && k.dir == dir) return &k;
+  return nullptr;
+}
+
+void append_row(const std::string& dir, int width, int height, const SeedVerdict& v, double seconds) {
+  const char* file = std::getenv("CLRADIOSITY_PEER_TSV");
+  if (!file || !*file) return;
+  std::ofstream out(file, std::ios::app);
+  const int w = v.worst();
+  out << dir << '\t' << width << 'x' << height << '\t' << v.seeds << '\t' << v.spp << '\t' << 1 + v.ratio[0] << '\t'
+      << 1 + v.ratio[1] << '\t' << 1 + v.ratio[2] << '\t' << "RGB"[w] << '\t' << v.ratio[w] << '\t' << v.sigma[w]
+      << '\t' << v.sigma_ours[w] << '\t' << v.sigma_peer[w] << '\t' << v.expected[w] << '\t' << v.bound[w] << '\t'
+      << v.block_error << '\t' << v.block_sigma << '\t' << v.block_bound << '\t' << (v.agrees() ? "pass" : "FAIL")
+      << '\t' << seconds << '\n';
+}
 
 class MitsubaCorpusPeer : public ::testing::TestWithParam<CorpusScene> {};
 
@@ -45,22 +85,35 @@ TEST_P(MitsubaCorpusPeer, AgreesWithinNoise) {
   const int width = W >= H ? kSize : std::max(8, int(std::lround(double(kSize) * W / H)));
   const int height = W >= H ? std::max(8, int(std::lround(double(kSize) * H / W))) : kSize;
 
-  const auto p = mitsuba_render(xml, width, height, kSpp / 2, scene.max_depth, 1);
-  if (!p) GTEST_SKIP() << "Mitsuba 3 cannot load " << xml;
-  const auto q = mitsuba_render(xml, width, height, kSpp / 2, scene.max_depth, 2);
-  ASSERT_TRUE(q);
+  if (!mitsuba_renders(xml, width, height, 1, scene.max_depth, 0, 1)) GTEST_SKIP() << "Mitsuba 3 cannot load " << xml;
 
+  const auto start = std::chrono::steady_clock::now();
   const geometry::Geometry geometry(scene);
-  reference::RenderOptions opt;
-  opt.width = width;
-  opt.height = height;
-  opt.spp = kSpp / 2;
-  opt.seed = 1;
-  const auto a = reference::render(geometry, opt);
-  opt.seed = 2;
-  const auto b = reference::render(geometry, opt);
-  const PeerVerdict v = judge_against_peer(a, b, *p, *q);
-  std::cout << c.dir << " vs Mitsuba 3, " << width << "x" << height << ", " << kSpp << " spp: " << v << "\n";
+  const SeededRender ours = [&](int spp, int first_seed, int seeds) {
+    std::vector<image::Image> images;
+    reference::RenderOptions opt;
+    opt.width = width;
+    opt.height = height;
+    opt.spp = spp;
+    for (int s = first_seed; s < first_seed + seeds; ++s) {
+      opt.seed = std::uint64_t(s);
+      images.push_back(reference::render(geometry, opt));
+    }
+    return images;
+  };
+  const SeededRender mitsuba = [&](int spp, int first_seed, int seeds) {
+    return *mitsuba_renders(xml, width, height, spp, scene.max_depth, first_seed, seeds);
+  };
+  const PeerPlan plan;
+  const KnownDifference* known = known_difference(c.dir);
+  const SeedVerdict v = run_peer(ours, mitsuba, plan, known ? known->expected : std::array<double, 3>{});
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  append_row(c.dir, width, height, v, seconds);
+  std::cout << c.dir << " vs Mitsuba 3, " << width << "x" << height << ": " << v << "; " << seconds << " s\n";
+  if (known) std::cout << "  known difference: " << known->reason << "\n";
+  if (v.widest_bound() > plan.target_bound)
+    std::cout << "  the bound stays above " << 100 * plan.target_bound << " % within the cap (" << plan.max_spp
+              << " spp, " << plan.final_seconds << " s): a 0.5 % bias could pass here\n";
   EXPECT_TRUE(v.agrees()) << v;
 }
 

@@ -11,6 +11,8 @@
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "image/image.hpp"
 #include "reference/agreement.hpp"
@@ -19,22 +21,34 @@ namespace clr::test {
 
 inline bool have_mitsuba() { return std::system("python3 -c 'import mitsuba' >/dev/null 2>&1") == 0; }
 
-// Mitsuba's render of `xml` at width × height with spp samples and max_depth, seeded; nullopt where Mitsuba cannot
-// load the scene (the script exits 3). Throws on any other failure.
-inline std::optional<image::Image> mitsuba_render(const std::filesystem::path& xml, int width, int height, int spp,
-                                                  int max_depth, int seed) {
-  const auto out = std::filesystem::temp_directory_path() /
-                   ("clr_mitsuba_" + std::to_string(::getpid()) + "_" + std::to_string(seed) + ".exr");
+// Mitsuba's renders of `xml` at width × height with spp samples and max_depth, seeded first_seed … first_seed +
+// count − 1 (the scene loaded once); nullopt where Mitsuba cannot load the scene (the script exits 3). Throws on any
+// other failure.
+inline std::optional<std::vector<image::Image>> mitsuba_renders(const std::filesystem::path& xml, int width, int height,
+                                                                int spp, int max_depth, int first_seed, int count) {
+  const auto out = std::filesystem::temp_directory_path() / ("clr_mitsuba_" + std::to_string(::getpid()) + ".exr");
   const std::string cmd = "python3 '" CLR_SOURCE_DIR "/tests/reference/mitsuba_render.py' '" + xml.string() + "' " +
                           std::to_string(width) + " " + std::to_string(height) + " " + std::to_string(spp) + " " +
-                          std::to_string(max_depth) + " '" + out.string() + "' " + std::to_string(seed) +
-                          " 2>/dev/null";
+                          std::to_string(max_depth) + " '" + out.string() + "' " + std::to_string(first_seed) + " " +
+                          std::to_string(count) + " 2>/dev/null";
   const int status = std::system(cmd.c_str());
   if (WIFEXITED(status) && WEXITSTATUS(status) == 3) return std::nullopt;
   if (status != 0) throw std::runtime_error("failed: " + cmd);
-  auto img = image::read_exr(out);
-  std::filesystem::remove(out);
-  return img;
+  std::vector<image::Image> images;
+  for (int seed = first_seed; seed < first_seed + count; ++seed) {
+    const auto file = std::filesystem::path(out).replace_extension().string() + "-" + std::to_string(seed) + ".exr";
+    images.push_back(image::read_exr(file));
+    std::filesystem::remove(file);
+  }
+  return images;
+}
+
+// One seeded render, as mitsuba_renders.
+inline std::optional<image::Image> mitsuba_render(const std::filesystem::path& xml, int width, int height, int spp,
+                                                  int max_depth, int seed) {
+  auto images = mitsuba_renders(xml, width, height, spp, max_depth, seed, 1);
+  if (!images) return std::nullopt;
+  return std::move(images->front());
 }
 
 // Ours (a, b) against the peer's (p, q): each pair two half-sample renders with different seeds.

@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """Renders a scene with Mitsuba 3 (scalar_rgb), the independent peer of mitsuba_peer_slow_test.cpp.
 
-Usage: mitsuba_render.py SCENE.xml WIDTH HEIGHT SPP MAX_DEPTH OUT.exr [SEED]
+Usage: mitsuba_render.py SCENE.xml WIDTH HEIGHT SPP MAX_DEPTH OUT.exr [SEED [COUNT]]
 
 The scene file is used unchanged: Mitsuba's own `path` integrator (with MAX_DEPTH) replaces whatever the file names
 (the shared scenes name integrators Mitsuba does not ship), and the camera is re-created at the requested size with
 the loaded sensor's transform and horizontal field of view (a thin lens with its aperture and focus distance, an
 orthographic camera with its transform). Exits 3 when Mitsuba cannot load the scene, so that a caller can tell
-"Mitsuba has no opinion" from a failed render."""
+"Mitsuba has no opinion" from a failed render. With COUNT, renders seeds SEED … SEED + COUNT − 1 of the scene loaded
+once (the peer tests' independent renders), each to OUT with "-SEED" before its extension."""
 import os
 import re
 import sys
@@ -18,6 +19,7 @@ import mitsuba as mi
 mi.set_variant("scalar_rgb")
 scene_file, width, height, spp, max_depth, out = sys.argv[1:7]
 seed = int(sys.argv[7]) if len(sys.argv) > 7 else 0
+count = int(sys.argv[8]) if len(sys.argv) > 8 else None
 
 def scalar(v):
     return float(v[0]) if hasattr(v, "__len__") else float(v)
@@ -104,5 +106,10 @@ else:
                 spec[key] = scalar(camera[key])
 sensor = mi.load_dict(spec)
 integrator = mi.load_dict({"type": "path", "max_depth": int(max_depth)})
-image = mi.render(scene, sensor=sensor, integrator=integrator, spp=int(spp), seed=seed)
-mi.Bitmap(image).write(out)
+if count is None:
+    mi.Bitmap(mi.render(scene, sensor=sensor, integrator=integrator, spp=int(spp), seed=seed)).write(out)
+else:
+    stem, ext = os.path.splitext(out)
+    for s in range(seed, seed + count):
+        image = mi.render(scene, sensor=sensor, integrator=integrator, spp=int(spp), seed=s)
+        mi.Bitmap(image).write(f"{stem}-{s}{ext}")
