@@ -25,6 +25,11 @@ std::size_t table_entries(const HashGridConfig& c) {
   return n;
 }
 
+AdamConfig scaled(AdamConfig adam, float factor) {
+  adam.learning_rate *= factor;
+  return adam;
+}
+
 }  // namespace
 
 std::vector<HashGridLevel> hashgrid_levels(const HashGridConfig& c) {
@@ -61,7 +66,7 @@ HashGrid::HashGrid(cl::Context& ctx, HashGridConfig config, AdamConfig adam, std
       grad_(ctx, fixed_ ? 0 : table_.size()),
       grad_fixed_(ctx, fixed_ ? table_.size() : 0),
       touched_(ctx, table_entries(config)),
-      adam_(ctx, table_.size(), adam),
+      adam_(ctx, table_.size(), scaled(adam, config.learning_rate_factor)),
       forward_(ctx.program(programs::hashgrid, options(ctx, config)).kernel("hashgrid_forward")),
       backward_(ctx.program(programs::hashgrid, options(ctx, config)).kernel("hashgrid_backward")) {
   std::vector<cl_uint4> info(levels_.size());

@@ -28,6 +28,11 @@ struct HashGridConfig {
   // batch did not reach keeps moving on its momentum. false: only the entries reached (lazy), which is what a CPU
   // can afford for big tables (docs/design.md §6); docs/method.md measures the two.
   bool dense_adam = false;
+  // The table's Adam learning rate as a multiple of the network's (adam.learning_rate; schedules scale both alike).
+  // An entry moves only on the steps whose batch reaches it, so at the MLP's rate the table localises slowly: on
+  // Veach Ajar the dark room borrowed the bright one's radiance for ~200 steps (docs/method.md, "The start and the
+  // swings").
+  float learning_rate_factor = 1.0f;
 };
 
 struct HashGridLevel {

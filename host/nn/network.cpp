@@ -108,6 +108,8 @@ nlohmann::json to_json(const NetworkConfig& c) {
   if (c.init != WeightInit::He) j["init"] = "torch";
   if (c.albedo_factor) j["albedo_factor"] = true;
   if (c.encoder.grid && c.encoder.grid->dense_adam) j["encoder"]["grid"]["dense_adam"] = true;
+  if (c.encoder.grid && c.encoder.grid->learning_rate_factor != 1.0f)
+    j["encoder"]["grid"]["learning_rate_factor"] = shortest(c.encoder.grid->learning_rate_factor);
   return j;
 }
 
@@ -148,6 +150,11 @@ void validate(const NetworkConfig& c) {
   // Adam moves each parameter by about the learning rate per step: above 1 nothing converges.
   require(std::isfinite(a.learning_rate) && a.learning_rate > 0 && a.learning_rate <= 1, "adam.learning_rate",
           a.learning_rate, "in (0, 1]");
+  if (c.encoder.grid)  // the table's rate, like the network's, at most 1
+    require(
+        c.encoder.grid->learning_rate_factor > 0 && double(c.encoder.grid->learning_rate_factor) * a.learning_rate <= 1,
+        "encoder.grid.learning_rate_factor", c.encoder.grid->learning_rate_factor,
+        "> 0, with adam.learning_rate times it <= 1");
   // β = 1 would never forget the first gradient and divides by zero in the bias correction 1/(1 − β^t).
   require(a.beta1 >= 0 && a.beta1 < 1, "adam.beta1", a.beta1, "in [0, 1)");
   require(a.beta2 >= 0 && a.beta2 < 1, "adam.beta2", a.beta2, "in [0, 1)");
@@ -224,6 +231,7 @@ NetworkConfig network_config_from_json(const nlohmann::json& j) {
         get(g, "encoder.grid.", "bbox_lo", gc.bbox_lo);
         get(g, "encoder.grid.", "bbox_hi", gc.bbox_hi);
         get(g, "encoder.grid.", "dense_adam", gc.dense_adam);
+        get(g, "encoder.grid.", "learning_rate_factor", gc.learning_rate_factor);
       }
     }
     get(j, "", "width", c.width);
@@ -264,7 +272,10 @@ NetworkConfig network_config_from_json(const nlohmann::json& j) {
   kept["output_init"] = c.output_init;
   kept["init"] = c.init == WeightInit::Torch ? "torch" : "he";
   kept["albedo_factor"] = c.albedo_factor;
-  if (c.encoder.grid) kept["encoder"]["grid"]["dense_adam"] = c.encoder.grid->dense_adam;
+  if (c.encoder.grid) {
+    kept["encoder"]["grid"]["dense_adam"] = c.encoder.grid->dense_adam;
+    kept["encoder"]["grid"]["learning_rate_factor"] = c.encoder.grid->learning_rate_factor;
+  }
   require_known_and_kept(j, kept, "network config");
   validate(c);
   return c;

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include "nn/encoder.hpp"
 #include "nn/encoding_twin.hpp"
@@ -122,12 +123,14 @@ TEST_P(HashGridTest, ForwardAndTableGradientMatchTwin) {
 
 // Lazy Adam updates only the entries a batch reached; dense Adam (PyTorch's, the NR authors' code) every entry, so
 // an entry reached only by the first batch keeps moving on its momentum in the second step. Both against a double
-// Adam twin fed the device's own gradients.
+// Adam twin fed the device's own gradients, at the table's own rate (learning_rate_factor times the network's).
 TEST_P(HashGridTest, DenseAdamMovesTheEntriesABatchMissed) {
-  for (const bool dense : {false, true}) {
+  const std::pair<bool, float> cases[] = {{false, 1.0f}, {true, 1.0f}, {false, 3.0f}};
+  for (const auto& [dense, factor] : cases) {
     auto cfg = small_grid();
     cfg.deterministic = GetParam();
     cfg.dense_adam = dense;
+    cfg.learning_rate_factor = factor;
     nn::AdamConfig adam;
     adam.learning_rate = 0.01f;
     nn::HashGrid grid(ctx(), cfg, adam, 3);
@@ -146,7 +149,7 @@ TEST_P(HashGridTest, DenseAdamMovesTheEntriesABatchMissed) {
       const auto before = grid.params().read();
       grid.adam_step();
       const auto after = grid.params().read();
-      const double lr = adam.learning_rate, c1 = 1 - std::pow(double(adam.beta1), step),
+      const double lr = double(adam.learning_rate) * factor, c1 = 1 - std::pow(double(adam.beta1), step),
                    c2 = 1 - std::pow(double(adam.beta2), step);
       for (std::size_t i = 0; i < p.size(); ++i) {
         if (!dense && !touched[i / F]) continue;
@@ -155,7 +158,8 @@ TEST_P(HashGridTest, DenseAdamMovesTheEntriesABatchMissed) {
         p[i] -= lr * (m[i] / c1) / (std::sqrt(v[i] / c2) + adam.epsilon);
         if (!touched[i / F] && after[i] != before[i]) ++moved_untouched;
       }
-      ASSERT_TRUE(all_near(std::span<const float>(after), std::span<const double>(p))) << "step " << step;
+      ASSERT_TRUE(all_near(std::span<const float>(after), std::span<const double>(p)))
+          << "step " << step << ", dense " << dense << ", factor " << factor;
     }
     if (dense)
       EXPECT_GT(moved_untouched, 0u) << "entries reached only by the first batch move on their momentum";

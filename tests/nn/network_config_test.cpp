@@ -56,6 +56,12 @@ TEST(NetworkConfig, ImpossibleEntriesAreNamed) {
       {{{"encoder", {{"grid", {{"levels", "many"}}}}}}, "'encoder.grid.levels'"},
       {{{"encoder", {{"grid", {{"bbox_lo", {0, 0, 2}}}}}}}, "'encoder.grid.bbox_hi'"},
       {{{"encoder", {{"grid", {{"dense_adam", 1}}}}}}, "'encoder.grid.dense_adam'"},
+      {{{"encoder", {{"grid", {{"learning_rate_factor", 0}}}}}}, "'encoder.grid.learning_rate_factor'"},
+      {{{"encoder", {{"grid", {{"learning_rate_factor", -2}}}}}}, "'encoder.grid.learning_rate_factor'"},
+      {{{"encoder", {{"grid", {{"learning_rate_factor", std::numeric_limits<double>::quiet_NaN()}}}}}},
+       "'encoder.grid.learning_rate_factor'"},
+      {{{"encoder", {{"grid", {{"learning_rate_factor", 1e3}}}}}}, "'encoder.grid.learning_rate_factor'"},  // rate 5
+      {{{"encoder", {{"grid", {{"learning_rate_factor", "4"}}}}}}, "'encoder.grid.learning_rate_factor'"},
       {{{"init", "xavier"}}, "'init'"},
       {{{"init", 1}}, "'init'"},
       {{{"albedo_factor", "yes"}}, "'albedo_factor'"},
@@ -70,13 +76,18 @@ TEST(NetworkConfig, InitDenseAdamAndAlbedoFactorRoundTrip) {
   EXPECT_FALSE(defaults.contains("init"));
   EXPECT_FALSE(defaults.contains("albedo_factor"));
   EXPECT_FALSE(defaults["encoder"]["grid"].contains("dense_adam"));
-  EXPECT_EQ(error_of({{"init", "he"}, {"encoder", {{"grid", {{"dense_adam", false}}}}}}), "")
+  EXPECT_FALSE(defaults["encoder"]["grid"].contains("learning_rate_factor"));
+  EXPECT_EQ(error_of({{"init", "he"}, {"encoder", {{"grid", {{"dense_adam", false}, {"learning_rate_factor", 1}}}}}}),
+            "")
       << "the defaults may be spelt out";
   nlohmann::json j = defaults;
-  j.merge_patch({{"init", "torch"}, {"albedo_factor", true}, {"encoder", {{"grid", {{"dense_adam", true}}}}}});
+  j.merge_patch({{"init", "torch"},
+                 {"albedo_factor", true},
+                 {"encoder", {{"grid", {{"dense_adam", true}, {"learning_rate_factor", 2.5}}}}}});
   const auto c = nn::network_config_from_json(j);
   EXPECT_EQ(c.init, nn::WeightInit::Torch);
   EXPECT_TRUE(c.encoder.grid->dense_adam);
+  EXPECT_EQ(c.encoder.grid->learning_rate_factor, 2.5f);
   EXPECT_TRUE(c.albedo_factor);
   EXPECT_EQ(nn::to_json(c), j);
 }
