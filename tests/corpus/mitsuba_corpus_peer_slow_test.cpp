@@ -43,7 +43,14 @@ struct KnownDifference {
   std::string_view reason;
 };
 constexpr KnownDifference kKnown[] = {
-    {"", {}, ""},  // none yet
+    // Measured 2026-11-28 at 48², 10 seeds × 1024 spp a side (σ 0.05 %); with Mitsuba's quadrature in ours the scene
+    // agrees within 0.03 %, as does the scene with a smooth `plastic` for the rough one (−0.13 %).
+    {"mitsuba-data--test_surf_area_light_volpath",
+     {0.0010, 0.0066, 0.0069},
+     "its roughplastic (beckmann 0.1, diffuse 0.2, 0.7, 0.7): Mitsuba 3 takes the substrate's internal reflectance "
+     "2 int R(mu) mu dmu as the mean of 64 points over [0, 1], ends included, 1.9 % below the integral (smooth "
+     "interface), so its diffuse lobe is 2.7 % darker than ours; at alpha -> 0 Mitsuba's roughplastic loses 2 % in a "
+     "furnace where its smooth plastic does not"},
 };
 
 const KnownDifference* known_difference(std::string_view dir) {
@@ -113,7 +120,7 @@ TEST_P(MitsubaCorpusPeer, AgreesWithinNoise) {
   if (known) std::cout << "  known difference: " << known->reason << "\n";
   if (v.widest_bound() > plan.target_bound)
     std::cout << "  the bound stays above " << 100 * plan.target_bound << " % within the cap (" << plan.max_spp
-              << " spp, " << plan.final_seconds << " s): a 0.5 % bias could pass here\n";
+              << " spp, " << plan.final_seconds << " s of processor time): a 0.5 % bias could pass here\n";
   EXPECT_TRUE(v.agrees()) << v;
 }
 

@@ -7,9 +7,10 @@
 // would put the mean bound above the target (so that a 0.5 % bias could pass), the spp is raised rather than the
 // bound (run_peer). Separate from Mitsuba itself, so that a fast test can show the judgement's power on synthetic
 // renders (peer_judgement_test.cpp).
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <functional>
@@ -23,8 +24,9 @@ namespace clr::test {
 struct PeerPlan {
   int seeds = 10;
   int base_spp = 32, max_spp = 8192;  // per seed: the pilot's, and the cap on raising it
-  // The judged renders' time, both sides, as the pilot's time scales to them: a cap on the spp as well, which lets
-  // cheap scenes rise further than costly ones.
+  // The judged renders' processor time, both sides, as the pilot's scales to them: a cap on the spp as well, which
+  // lets cheap scenes rise further than costly ones. Processor time rather than the clock's, so that the spp chosen
+  // does not depend on what else the machine runs.
   double final_seconds = 120;
   // A mean agrees within mean_allowance + mean_k σ; the spp is raised until that is at most target_bound, so that a
   // 0.5 % bias fails with ≥ 93 % probability (0.5 % lies 1.5 σ beyond the bound at the target).
@@ -142,8 +144,8 @@ inline SeedVerdict judge_seeds(const std::vector<image::Image>& ours, const std:
 }
 
 // The spp per seed at which the widest mean bound is expected to be at most the target: the noise falls as 1/√spp,
-// so the pilot's spp doubles until it does, up to the cap and while the renders' time (the pilot's, pilot_seconds,
-// scaled by the spp) stays within the plan's.
+// so the pilot's spp doubles until it does, up to the cap and while the renders' processor time (the pilot's,
+// pilot_seconds, scaled by the spp) stays within the plan's.
 inline int spp_for_target(const SeedVerdict& pilot, double pilot_seconds, const PeerPlan& plan) {
   const double sigma = *std::max_element(pilot.sigma.begin(), pilot.sigma.end());
   const double wanted = (plan.target_bound - plan.mean_allowance) / plan.mean_k;
@@ -154,6 +156,17 @@ inline int spp_for_target(const SeedVerdict& pilot, double pilot_seconds, const 
   return spp;
 }
 
+// User and system time of this process and of the children it has waited for (a peer renderer run as a command).
+inline double processor_seconds() {
+  double s = 0;
+  for (const int who : {RUSAGE_SELF, RUSAGE_CHILDREN}) {
+    rusage u{};
+    getrusage(who, &u);
+    s += double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  }
+  return s;
+}
+
 // `seeds` renders at `spp` per seed, seeded first_seed, first_seed + 1, ...
 using SeededRender = std::function<std::vector<image::Image>(int spp, int first_seed, int seeds)>;
 
@@ -161,12 +174,11 @@ using SeededRender = std::function<std::vector<image::Image>(int spp, int first_
 // chosen from it (the pilot's own noise estimate chose that spp, so judging it again would favour low estimates).
 inline SeedVerdict run_peer(const SeededRender& ours, const SeededRender& peer, const PeerPlan& plan,
                             const std::array<double, 3>& expected = {}) {
-  const auto start = std::chrono::steady_clock::now();
+  const double start = processor_seconds();
   SeedVerdict v = judge_seeds(ours(plan.base_spp, 1, plan.seeds), peer(plan.base_spp, 1, plan.seeds), plan, expected);
   v.spp = plan.base_spp;
   if (v.widest_bound() <= plan.target_bound) return v;
-  const int spp =
-      spp_for_target(v, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), plan);
+  const int spp = spp_for_target(v, processor_seconds() - start, plan);
   if (spp == plan.base_spp) return v;
   v = judge_seeds(ours(spp, 1 + plan.seeds, plan.seeds), peer(spp, 1 + plan.seeds, plan.seeds), plan, expected);
   v.spp = spp;

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <iostream>
 
 #include "common/pcg32.hpp"
 
@@ -63,12 +64,14 @@ TEST(PeerJudgement, CatchesAHalfPercentBiasAndPassesAnUnbiasedCopy) {
     unbiased_pass += same.agrees();
     biased_fail += !brighter.means_agree();
   }
+  std::cout << "unbiased copies passing: " << unbiased_pass << " of " << kTrials
+            << "; 0.5 % brighter copies failing: " << biased_fail << " of " << kTrials << "\n";
   EXPECT_EQ(unbiased_pass, kTrials);
   // At the target bound a 0.5 % bias lies 1.5 standard errors beyond it: ≥ 93 % of trials fail.
   EXPECT_GE(biased_fail, kTrials * 9 / 10);
 }
 
-TEST(PeerJudgement, AtTheBaseSppTheOldBoundsWouldNotHaveCaughtIt) {
+TEST(PeerJudgement, WithoutRaisingTheSppTheBoundIsWiderThanTheBias) {
   // Without raising the spp (the cap at the base), the bound at this noise is wider than the bias.
   PeerPlan plan;
   plan.max_spp = plan.base_spp;
