@@ -63,6 +63,10 @@ NetworkConfig n_module_config(const std::array<float, 3>& lo, const std::array<f
   NetworkConfig c;
   c.encoder.grid->bbox_lo = lo;
   c.encoder.grid->bbox_hi = hi;
+  // The Neural Radiosity authors' resolutions, 2 doubling to 4096 across the scene's box: coarse cells that many
+  // samples reach each step tell the rooms of a scene apart sooner (docs/method.md, "The start and the swings").
+  c.encoder.grid->base_resolution = 2;
+  c.encoder.grid->growth = 2.0;
   c.encoder.albedo = true;
   c.encoder.roughness = false;
   c.width = 512;
