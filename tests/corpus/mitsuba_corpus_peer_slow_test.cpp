@@ -8,7 +8,9 @@
 // script exits 3) have no peer. Skipped where `import mitsuba` fails or the corpus is absent.
 //
 // With CLRADIOSITY_PEER_TSV set, each scene's verdict is appended to that file as a row (the results tables of
-// docs/results/scenes.md).
+// docs/results/scenes.md): folder, size, seeds, spp per seed, ours / Mitsuba's for R, G and B, then for the worst
+// channel its letter, ratio − 1, σ, each side's σ, expected difference and bound, then the median block error, its
+// σ and bound, pass or FAIL, and seconds.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -21,7 +23,6 @@
 
 #include "common/error.hpp"
 #include "geometry/geometry.hpp"
-#include "reference/agreement.hpp"
 #include "reference/mitsuba_peer.hpp"
 #include "reference/path_tracer.hpp"
 #include "reference/peer_judgement.hpp"
@@ -34,9 +35,9 @@ namespace {
 namespace fs = std::filesystem;
 constexpr int kSize = 48;  // pixels on the longer side
 
-// Differences between the two renderers that are understood (docs/scenes.md, "The corpus peer's known
-// differences"): the scene's channel means are judged around `expected` (ours / Mitsuba's − 1 per channel, as
-// measured) with the same bound as any other scene.
+// Differences between the two renderers that are understood (docs/scenes.md, "The corpus peer's bounds"): the scene's
+// channel means are judged around `expected` (ours / Mitsuba's − 1 per channel, as measured) with the same bound as any
+// other scene.
 struct KnownDifference {
   std::string_view dir;
   std::array<double, 3> expected;

@@ -1,7 +1,8 @@
 #pragma once
 // Mitsuba 3 as the peer renderer of the slow tests (tests/reference/mitsuba_render.py, scalar_rgb), and the
-// judgement both peer tests share: our render and Mitsuba's, each as two half-sample renders with different seeds,
-// agree within 1 % (channel means) and 2 % (median 8×8-block error), widened by the noise of both averages.
+// judgement of the shared and bundled scenes' peer test (mitsuba_peer_slow_test.cpp): our render and Mitsuba's, each
+// as two half-sample renders with different seeds, agree within 1 % (channel means) and 2 % (median 8×8-block
+// error), widened by the noise of both averages. The corpus peer judges over 10 seeds instead (peer_judgement.hpp).
 #include <sys/wait.h>
 
 #include <cmath>
