@@ -3,7 +3,7 @@
 // process, so that load from other processes falls on both alike); each figure is the median over the rounds of a
 // block's ms/step, the device's queue drained at the end of every block. The anchor is the serial schedule itself:
 // the pipeline must not be slower on a CPU device, where host and device share the cores. Last, the host's incident
-// loop alone in thread-µs a sample, beside what a GPU step needs of it.
+// loop alone in thread-µs a sample, beside the anchor issue 49 sets it.
 // Usage: bench_pipeline [SCENE.xml] [rounds] [steps per block] (SCENE "" or none: the shared Cornell box, else the
 // bundled one; 7 rounds of 10 steps).
 #include <unistd.h>
