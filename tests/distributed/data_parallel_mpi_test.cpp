@@ -130,8 +130,12 @@ TEST_F(DataParallel, SparseExchangeSumsTheDenseGradients) {
   nn::NetworkConfig config = nn::n_module_config({0, 0, 0}, {1, 1, 1});
   config.width = 32;
   config.hidden_layers = 1;
+  // Cells fine enough (16 across, growing 1.5×) that 64 rows a rank touch a small part of the table, each rank its
+  // own entries: the exchange is sparse, and the other rank's entries can be seen arriving.
   config.encoder.grid->levels = 4;
   config.encoder.grid->log2_table = 12;
+  config.encoder.grid->base_resolution = 16;
+  config.encoder.grid->growth = 1.5;
   nn::Network net(ctx(), config);
   const std::size_t rows = 64;
   std::mt19937 rng(unsigned(17 + ranks().rank()));
