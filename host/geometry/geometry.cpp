@@ -51,8 +51,8 @@ float alpha_hash(std::uint32_t prim, float ox, float oy, float oz, float dx, flo
 // crossings as `prim`).
 bool opaque(const Geometry::ShapeData& d, std::uint32_t prim, const Vec2& b, const float o[3], const float dir[3]) {
   if (!d.opacity) return true;
-  const Rgb a = d.opacity->eval(d.shape->texture_point(prim, b));
-  return alpha_hash(prim, o[0], o[1], o[2], dir[0], dir[1], dir[2]) < (a.x + a.y + a.z) / 3.0f;
+  const float a = d.opacity->eval_1(d.shape->texture_point(prim, b));
+  return alpha_hash(prim, o[0], o[1], o[2], dir[0], dir[1], dir[2]) < a;
 }
 
 void alpha_filter(const RTCFilterFunctionNArguments* args) {

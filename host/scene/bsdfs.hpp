@@ -44,7 +44,7 @@ class RoughDiffuse final : public Bsdf {
 };
 
 // A scalar BSDF parameter given as a texture: the member of the BSDF's Values it sets at each point, from the
-// texture's first channel clamped into [lo, hi] (as a blend's weight is read).
+// texture read as a number (Texture::eval_1) clamped into [lo, hi] (as a blend's weight is read).
 template <typename Values>
 struct TexturedValue {
   float Values::*member;
@@ -57,7 +57,7 @@ using TexturedValues = std::vector<TexturedValue<Values>>;
 // `v` with each textured member replaced by its texture's value at `at`, or by its mean without a point.
 template <typename Values>
 Values values_at(Values v, const TexturedValues<Values>& textured, const TexturePoint* at) {
-  for (const auto& t : textured) v.*t.member = std::clamp((at ? t.texture.eval(*at) : t.texture.mean()).x, t.lo, t.hi);
+  for (const auto& t : textured) v.*t.member = std::clamp(at ? t.texture.eval_1(*at) : t.texture.mean_1(), t.lo, t.hi);
   return v;
 }
 template <typename Values>
@@ -331,7 +331,7 @@ class BlendBsdf final : public Bsdf {
   bool anisotropic() const override { return a_->anisotropic() || b_->anisotropic(); }
 
  private:
-  float weight(const TexturePoint& at) const { return std::clamp(weight_.eval(at).x, 0.0f, 1.0f); }
+  float weight(const TexturePoint& at) const { return std::clamp(weight_.eval_1(at), 0.0f, 1.0f); }
   Texture weight_;
   std::shared_ptr<const Bsdf> a_, b_;
 };

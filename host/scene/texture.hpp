@@ -73,6 +73,15 @@ class Texture {
     if (kind_ == Kind::constant) return c0_;
     return eval_varying(at);
   }
+  // The texture read as one number, where a BSDF takes a float (roughness, a blend's weight, a mask's opacity, the
+  // principled parameters), as Mitsuba 3's eval_1 reads it: a colour's channel mean, a bitmap's luminance, a mesh
+  // attribute's single channel (the loader refuses a three-channel one there, as Mitsuba does), and a checkerboard
+  // with its colours the other way round. Mitsuba's checkerboard puts colour 0 where u and v lie in the same half
+  // when it returns a colour (eval), but where they lie in different halves when it returns a number (eval_1)
+  // (checked against 3.9.1), and its renders follow that.
+  float eval_1(const TexturePoint& at) const;
+  // The mean of eval_1 over the texture (as mean()).
+  float mean_1() const;
   bool is_constant() const { return kind_ == Kind::constant; }
   Kind kind() const { return kind_; }
   // Average over the texture (exact for constants and checkerboards, texel mean for bitmaps): used where a single

@@ -300,6 +300,50 @@ TEST_F(Loader, TexturesBitmapAndCheckerboard) {
   EXPECT_FLOAT_EQ(checker.albedo(Vec2(0.8f, 0.8f)).x, 0.1f);  // (1.6, 1.6): wraps around
 }
 
+// Where a BSDF reads a texture as a number, Mitsuba 3 calls eval_1, which differs from the colour read (eval): a
+// checkerboard's colours change places, an rgb becomes its channel mean and a bitmap its luminance (the numbers are
+// Mitsuba 3.9.1's, from tests/scene/mitsuba_textures.py). The members of the class: a roughness, a principled
+// parameter, a blend's weight and a mask's opacity.
+TEST_F(Loader, TexturesReadAsNumbersFollowMitsubasEval1) {
+  image::Image img(2, 2);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 2; ++x) {
+      img.pixel(x, y)[0] = 0.2f;
+      img.pixel(x, y)[1] = 0.5f;
+      img.pixel(x, y)[2] = 0.9f;
+    }
+  image::write_exr(dir_ / "rgb.exr", img);
+  const auto named = [](const std::string& name) {
+    return R"(<texture name=")" + name + R"(" type="checkerboard">
+      <float name="color0" value="0.05"/><float name="color1" value="0.3"/>
+      <transform name="to_uv"><scale x="2" y="2"/></transform></texture>)";
+  };
+  const auto s = scene::load_scene(scene(
+      R"(<shape type="rectangle"><bsdf type="roughconductor">)" + named("alpha") + R"(</bsdf></shape>
+    <shape type="rectangle"><bsdf type="roughconductor"><float name="alpha" value="0.05"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="roughconductor"><float name="alpha" value="0.3"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="principled">)" + named("roughness") + R"(</bsdf></shape>
+    <shape type="rectangle"><bsdf type="principled"><float name="roughness" value="0.05"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="principled"><float name="roughness" value="0.3"/></bsdf></shape>
+    <shape type="rectangle"><bsdf type="mask"><rgb name="opacity" value="0.2 0.5 0.9"/><bsdf type="diffuse"/>
+      </bsdf></shape>
+    <shape type="rectangle"><bsdf type="blendbsdf"><texture name="weight" type="bitmap">
+      <string name="filename" value="rgb.exr"/></texture>
+      <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf>
+      <bsdf type="diffuse"><rgb name="reflectance" value="1"/></bsdf></bsdf></shape>)"));
+  const Vec3 wo = glm::normalize(Vec3(0.3f, 0.1f, 1.0f)), wi = glm::normalize(Vec3(-0.2f, 0.25f, 1.0f));
+  const auto f = [&](int shape, const Vec2& uv) { return s.bsdf(s.shapes[shape]).eval(uv, wo, wi).x; };
+  const Vec2 same(0.1f, 0.1f), different(0.3f, 0.1f);  // through to_uv: (0.2, 0.2) and (0.6, 0.2)
+  ASSERT_GT(std::fabs(f(1, same) / f(2, same) - 1.0f), 0.1f);  // the two roughnesses differ visibly here
+  for (const int textured : {0, 3}) {
+    EXPECT_FLOAT_EQ(f(textured, same), f(textured + 2, same)) << "shape " << textured << ": colour 1, 0.3";
+    EXPECT_FLOAT_EQ(f(textured, different), f(textured + 1, different)) << "shape " << textured << ": colour 0";
+  }
+  ASSERT_TRUE(as<scene::Mask>(s, 6));
+  EXPECT_FLOAT_EQ(as<scene::Mask>(s, 6)->opacity()->eval_1(Vec2(0.5f)), 0.5333333611488342f);
+  EXPECT_NEAR(s.bsdf(s.shapes[7]).albedo(Vec2(0.5f)).x, 0.4650663137435913f, 1e-6f);
+}
+
 // Mitsuba 3's bitmap `format`, the precision of the stored texels; the values below are what Mitsuba 3.9.1's
 // bitmap returns for an EXR of 0.3, 2.0, 0.001, 0.7 (nearest lookups, raw or not).
 TEST_F(Loader, BitmapFormatStoresTexelsAtItsPrecision) {

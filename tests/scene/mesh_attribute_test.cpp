@@ -238,6 +238,28 @@ TEST_F(MeshAttributes, AMissingAttributeNamesTheTextureTheAttributeAndTheShape) 
   }
 }
 
+// A parameter read as a number (Texture::eval_1) takes a 1-channel attribute; Mitsuba fails mid-render on a
+// 3-channel one ("requested but had size 3"), here the scene is refused naming the parameter. The same attribute
+// read as a colour is kept.
+TEST_F(MeshAttributes, ANumberReadsOnlyAOneChannelAttribute) {
+  write("a.ply", kPly);
+  try {
+    scene::load_scene(scene(shape_reading("face_color", "face_color")));
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("reads attribute 'face_color' of shape 'quad' as the number 'weight'"));
+    EXPECT_THAT(e.what(), HasSubstr("it has 3 channels"));
+  }
+  EXPECT_THROW(scene::load_scene(scene(R"(<shape type="ply"><string name="filename" value="a.ply"/>
+      <bsdf type="principled"><texture type="mesh_attribute" name="metallic">
+        <string name="name" value="vertex_color"/></texture></bsdf></shape>)")),
+               InputError);
+  const auto s = scene::load_scene(scene(R"(<shape type="ply"><string name="filename" value="a.ply"/>
+      <bsdf type="roughconductor"><texture type="mesh_attribute" name="alpha">
+        <string name="name" value="face_weight"/></texture></bsdf></shape>)"));
+  EXPECT_NE(s.shapes.at(0).mesh.attribute("face_weight"), nullptr);
+}
+
 TEST_F(MeshAttributes, BadNamesAndShapesWithoutAttributesAreRefused) {
   write("a.ply", kPly);
   EXPECT_THROW(scene::load_scene(scene(shape_reading("weight", "vertex_color"))), InputError);  // no prefix

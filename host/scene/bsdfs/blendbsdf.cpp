@@ -37,7 +37,7 @@ Rgb BlendBsdf::albedo(const TexturePoint& at) const {
 }
 
 float BlendBsdf::roughness() const {
-  const float w = std::clamp(weight_.mean().x, 0.0f, 1.0f);
+  const float w = std::clamp(weight_.mean_1(), 0.0f, 1.0f);
   return (1.0f - w) * a_->roughness() + w * b_->roughness();
 }
 
@@ -45,7 +45,7 @@ float BlendBsdf::roughness() const {
 
 namespace clr::scene::loader {
 std::shared_ptr<const Bsdf> read_blendbsdf(Context& ctx, const Props& p) {
-  const Texture weight = ctx.texture(p, "weight", Rgb(0.5f));
+  const Texture weight = ctx.scalar_texture(p, "weight", Rgb(0.5f));
   const Rgb mean = weight.mean();
   if (!(mean.x >= 0 && mean.x <= 1)) p.node.fail("weight must lie in [0, 1]");
   auto nested = ctx.nested_bsdfs(p);

@@ -43,16 +43,16 @@ Microfacet read_rough_microfacet(Context& ctx, const Props& p, std::optional<Rou
   if (p.has("alpha") && (p.has("alpha_u") || p.has("alpha_v")))
     p.node.fail("give either 'alpha' or 'alpha_u' and 'alpha_v', not both");
   if (p.has("alpha")) {
-    const Texture a = ctx.texture(p, "alpha", Rgb(0.1f));
+    const Texture a = ctx.scalar_texture(p, "alpha", Rgb(0.1f));
     textured = RoughnessTextures{a, a};
   } else {
     if (!p.has("alpha_u") || !p.has("alpha_v")) p.node.fail("give both 'alpha_u' and 'alpha_v'");
-    textured = RoughnessTextures{ctx.texture(p, "alpha_u", Rgb(0.1f)), ctx.texture(p, "alpha_v", Rgb(0.1f))};
+    textured = RoughnessTextures{ctx.scalar_texture(p, "alpha_u", Rgb(0.1f)), ctx.scalar_texture(p, "alpha_v", Rgb(0.1f))};
   }
-  if (!(textured->alpha_u.mean().x > 0 && textured->alpha_v.mean().x > 0)) p.node.fail("alpha must be positive");
+  if (!(textured->alpha_u.mean_1() > 0 && textured->alpha_v.mean_1() > 0)) p.node.fail("alpha must be positive");
   Microfacet mf = read_microfacet(p, true);  // the distribution
-  mf.alpha = textured->alpha_u.mean().x;
-  mf.alpha_v = textured->alpha_v.mean().x;
+  mf.alpha = textured->alpha_u.mean_1();
+  mf.alpha_v = textured->alpha_v.mean_1();
   return mf;
 }
 

@@ -39,12 +39,12 @@ void read_value(Context& ctx, const Props& p, const char* name, float Values::*m
     require_in_range(p, name, lo, hi, values.*member, values.*member);
     return;
   }
-  Texture t = ctx.texture(p, name, Texture());
+  Texture t = ctx.scalar_texture(p, name, Texture());
   const Rgb smallest = t.minimum(), largest = t.maximum();
   require_in_range(p, name, lo, hi, std::min({smallest.x, smallest.y, smallest.z}),
                    t.kind() == Texture::Kind::mesh_attribute ? lo : std::max({largest.x, largest.y, largest.z}));
   if (t.is_constant())
-    values.*member = t.mean().x;
+    values.*member = t.mean_1();
   else
     textured.push_back({member, std::move(t), lo, hi});
 }

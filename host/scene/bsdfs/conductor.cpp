@@ -9,8 +9,8 @@ namespace clr::scene {
 
 Microfacet RoughnessTextures::at(const Microfacet& base, const TexturePoint& point) const {
   Microfacet m = base;
-  m.alpha = std::fmax(alpha_u.eval(point).x, 1e-4f);
-  m.alpha_v = std::fmax(alpha_v.eval(point).x, 1e-4f);
+  m.alpha = std::fmax(alpha_u.eval_1(point), 1e-4f);
+  m.alpha_v = std::fmax(alpha_v.eval_1(point), 1e-4f);
   return m;
 }
 

@@ -24,8 +24,18 @@ namespace {
 using loader::Node;
 using loader::Props;
 
-// Mesh attributes named by mesh_attribute textures: attribute → the id of a texture naming it.
-using AttributeUses = std::map<std::string, std::string>;
+// Mesh attributes named by mesh_attribute textures: attribute → the id of a texture naming it and, where one is
+// read as a number (Texture::eval_1), that parameter's name.
+struct AttributeUse {
+  std::string texture, as_number;
+};
+using AttributeUses = std::map<std::string, AttributeUse>;
+
+// Adds `use` of `attribute` to `uses`; a read as a number is kept over a read as a colour.
+void add_use(AttributeUses& uses, const std::string& attribute, const AttributeUse& use) {
+  const auto [it, added] = uses.try_emplace(attribute, use);
+  if (!added && it->second.as_number.empty()) it->second.as_number = use.as_number;
+}
 
 class Loader final : public loader::Context {
   static constexpr std::size_t kMaxFiles = 1024;
@@ -104,6 +114,11 @@ class Loader final : public loader::Context {
     if (name.ends_with("reflectance") || name.ends_with("transmittance") || name == "base_color" || name == "weight" ||
         name == "opacity")
       require_non_negative(p, name, t);
+    return t;
+  }
+  Texture scalar_texture(const Props& p, const std::string& name, const Texture& fallback) override {
+    const Texture t = texture(p, name, fallback);
+    record_use(t, name);
     return t;
   }
 
@@ -243,13 +258,14 @@ class Loader final : public loader::Context {
     return made;
   }
   void record_uses(const AttributeUses& uses) {
-    for (auto& scope : attribute_scopes_) scope.insert(uses.begin(), uses.end());
+    for (auto& scope : attribute_scopes_)
+      for (const auto& [attribute, use] : uses) add_use(scope, attribute, use);
   }
-  void record_use(const Texture& t) {
-    for (auto& scope : attribute_scopes_) record_use(t, scope);
+  void record_use(const Texture& t, const std::string& as_number = "") {
+    for (auto& scope : attribute_scopes_) record_use(t, scope, as_number);
   }
-  static void record_use(const Texture& t, AttributeUses& uses) {
-    if (!t.attribute().empty()) uses.try_emplace(t.attribute(), t.id());
+  static void record_use(const Texture& t, AttributeUses& uses, const std::string& as_number = "") {
+    if (!t.attribute().empty()) add_use(uses, t.attribute(), {t.id(), as_number});
   }
 
   void register_id(const Node& n, const std::string& kind) {
@@ -643,9 +659,9 @@ class Loader final : public loader::Context {
   // channels, finite) when the scene is read. Attributes nothing reads are dropped.
   static void keep_attributes(const Node& n, Shape& s, const AttributeUses& uses) {
     std::vector<MeshAttribute> kept;
-    for (const auto& [name, texture] : uses) {
+    for (const auto& [name, use] : uses) {
       const MeshAttribute* a = s.mesh.attribute(name);
-      const std::string what = "mesh_attribute texture '" + texture + "' reads attribute '" + name + "'";
+      const std::string what = "mesh_attribute texture '" + use.texture + "' reads attribute '" + name + "'";
       if (!a) {
         std::string has;
         for (const auto& other : s.mesh.attributes) has += (has.empty() ? "" : ", ") + other.name;
@@ -655,6 +671,9 @@ class Loader final : public loader::Context {
       if (a->channels != 1 && a->channels != 3)
         n.fail(what + " of shape '" + s.id + "', which has " + std::to_string(a->channels) +
                " channels: only 1 or 3 can be evaluated (as in Mitsuba)");
+      if (a->channels != 1 && !use.as_number.empty())
+        n.fail(what + " of shape '" + s.id + "' as the number '" + use.as_number + "', but it has " +
+               std::to_string(a->channels) + " channels: a number reads a 1-channel attribute (as in Mitsuba)");
       for (const float v : a->values)
         if (!std::isfinite(v)) n.fail(what + " of shape '" + s.id + "', which holds a non-finite value");
       kept.push_back(*a);
@@ -672,7 +691,7 @@ class Loader final : public loader::Context {
     AttributeUses uses;
     auto e = gathering_uses(uses, [&] { return reader(*this, p); });
     if (!e.area && !uses.empty())
-      n.fail("mesh_attribute texture '" + uses.begin()->second + "' on an emitter that is no shape's: only shapes " +
+      n.fail("mesh_attribute texture '" + uses.begin()->second.texture + "' on an emitter that is no shape's: only shapes " +
              "have mesh attributes");
     // Every Mitsuba emitter takes a share of the light samples; clradiosity chooses its own.
     p.ignore({"sampling_weight"});

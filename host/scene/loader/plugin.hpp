@@ -82,6 +82,8 @@ class Context {
   virtual std::filesystem::path file(const Props& p, const std::string& property, const std::string& what) = 0;
   // A texture-valued property (a colour, a nested <texture>, a <ref> to one); `fallback` when absent.
   virtual Texture texture(const Props& p, const std::string& name, const Texture& fallback) = 0;
+  // The same for a parameter the BSDF reads as a number (Texture::eval_1: a roughness, a weight, an opacity).
+  virtual Texture scalar_texture(const Props& p, const std::string& name, const Texture& fallback) = 0;
   virtual Texture texture(const Node& texture_or_ref) = 0;
   // The BSDFs nested in (or referenced by) a plugin, in document order.
   virtual std::vector<std::shared_ptr<const Bsdf>> nested_bsdfs(const Props& p) = 0;

@@ -122,6 +122,32 @@ Rgb Texture::eval_varying(const TexturePoint& at) const {
   return mu == mv ? c0_ : c1_;
 }
 
+namespace {
+// A grey is its value exactly, as Mitsuba's `uniform` texture (a float) returns it; (3v)/3 can round off it.
+float channel_mean(const Rgb& c) { return c.x == c.y && c.y == c.z ? c.x : (c.x + c.y + c.z) / 3.0f; }
+}  // namespace
+
+float Texture::eval_1(const TexturePoint& at) const {
+  switch (kind_) {
+    case Kind::constant:
+      return channel_mean(c0_);
+    case Kind::bitmap:
+      return luminance(eval_varying(at));
+    case Kind::checkerboard: {
+      const Vec2 uv = to_uv_.apply(at.uv);
+      const bool mu = uv.x - std::floor(uv.x) > 0.5f, mv = uv.y - std::floor(uv.y) > 0.5f;
+      return channel_mean(mu != mv ? c0_ : c1_);
+    }
+    case Kind::mesh_attribute:
+      return eval_varying(at).x;
+  }
+  return channel_mean(c0_);
+}
+
+float Texture::mean_1() const {
+  return kind_ == Kind::bitmap ? luminance(bitmap_->mean) : channel_mean(mean());
+}
+
 float Texture::texel_uv() const {
   if (kind_ != Kind::bitmap) return std::numeric_limits<float>::infinity();
   const float stretch = std::max(glm::length(to_uv_.linear[0]), glm::length(to_uv_.linear[1]));
