@@ -24,7 +24,6 @@
 #include "common/error.hpp"
 #include "geometry/geometry.hpp"
 #include "reference/mitsuba_peer.hpp"
-#include "reference/path_tracer.hpp"
 #include "reference/peer_judgement.hpp"
 #include "scene/scene.hpp"
 #include "support/scenes_corpus.hpp"
@@ -97,24 +96,10 @@ TEST_P(MitsubaCorpusPeer, AgreesWithinNoise) {
 
   const auto start = std::chrono::steady_clock::now();
   const geometry::Geometry geometry(scene);
-  const SeededRender ours = [&](int spp, int first_seed, int seeds) {
-    std::vector<image::Image> images;
-    reference::RenderOptions opt;
-    opt.width = width;
-    opt.height = height;
-    opt.spp = spp;
-    for (int s = first_seed; s < first_seed + seeds; ++s) {
-      opt.seed = std::uint64_t(s);
-      images.push_back(reference::render(geometry, opt));
-    }
-    return images;
-  };
-  const SeededRender mitsuba = [&](int spp, int first_seed, int seeds) {
-    return *mitsuba_renders(xml, width, height, spp, scene.max_depth, first_seed, seeds);
-  };
   const PeerPlan plan;
   const KnownDifference* known = known_difference(c.dir);
-  const SeedVerdict v = run_peer(ours, mitsuba, plan, known ? known->expected : std::array<double, 3>{});
+  const SeedVerdict v = run_peer(our_seeds(geometry, width, height), mitsuba_seeds(xml, width, height, scene.max_depth),
+                                 plan, known ? known->expected : std::array<double, 3>{});
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   append_row(c.dir, width, height, v, seconds);
   std::cout << c.dir << " vs Mitsuba 3, " << width << "x" << height << ": " << v << "; " << seconds << " s\n";

@@ -1,22 +1,22 @@
 #pragma once
-// Mitsuba 3 as the peer renderer of the slow tests (tests/reference/mitsuba_render.py, scalar_rgb), and the
-// judgement of the shared and bundled scenes' peer test (mitsuba_peer_slow_test.cpp): our render and Mitsuba's, each
-// as two half-sample renders with different seeds, agree within 1 % (channel means) and 2 % (median 8×8-block
-// error), widened by the noise of both averages. The corpus peer judges over 10 seeds instead (peer_judgement.hpp).
+// Mitsuba 3 as the peer renderer of the slow tests (tests/reference/mitsuba_render.py, scalar_rgb): its seeded
+// renders, and both sides of the multi-seed judgement (peer_judgement.hpp) that the corpus peer and the shared and
+// bundled scenes' peer test share.
 #include <sys/wait.h>
 
-#include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
-#include <ostream>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "geometry/geometry.hpp"
 #include "image/image.hpp"
-#include "reference/agreement.hpp"
+#include "reference/path_tracer.hpp"
+#include "reference/peer_judgement.hpp"
 
 namespace clr::test {
 
@@ -44,40 +44,28 @@ inline std::optional<std::vector<image::Image>> mitsuba_renders(const std::files
   return images;
 }
 
-// One seeded render, as mitsuba_renders.
-inline std::optional<image::Image> mitsuba_render(const std::filesystem::path& xml, int width, int height, int spp,
-                                                  int max_depth, int seed) {
-  auto images = mitsuba_renders(xml, width, height, spp, max_depth, seed, 1);
-  if (!images) return std::nullopt;
-  return std::move(images->front());
+// The two sides of a peer judgement (peer_judgement.hpp) at width × height: our path tracer's seeded renders of
+// `geometry`, and Mitsuba's of `xml` (which the caller has seen Mitsuba load) at the scene's max_depth.
+inline SeededRender our_seeds(const geometry::Geometry& geometry, int width, int height) {
+  return [&geometry, width, height](int spp, int first_seed, int seeds) {
+    std::vector<image::Image> images;
+    reference::RenderOptions opt;
+    opt.width = width;
+    opt.height = height;
+    opt.spp = spp;
+    for (int s = first_seed; s < first_seed + seeds; ++s) {
+      opt.seed = std::uint64_t(s);
+      images.push_back(reference::render(geometry, opt));
+    }
+    return images;
+  };
 }
-
-// Ours (a, b) against the peer's (p, q): each pair two half-sample renders with different seeds.
-struct PeerVerdict {
-  Agreement agreement;
-  Noise ours, peer;
-  double mean_bound = 0, block_bound = 0;
-  bool agrees() const { return agreement.worst_mean_error < mean_bound && agreement.median_block_error < block_bound; }
-};
-
-inline PeerVerdict judge_against_peer(const image::Image& a, const image::Image& b, const image::Image& p,
-                                      const image::Image& q) {
-  PeerVerdict v;
-  const image::Image peer = average(p, q);
-  v.agreement = agreement(average(a, b), peer);
-  v.ours = noise_of_average(a, b, peer);
-  v.peer = noise_of_average(p, q, peer);
-  // The difference of two independent averages carries both noises; 3 (means) and 2 (median block) standard
-  // deviations of it on top of the systematic allowance.
-  v.mean_bound = 0.01 + 3 * std::hypot(v.ours.mean, v.peer.mean);
-  v.block_bound = 0.02 + 2 * std::hypot(v.ours.median_block, v.peer.median_block);
-  return v;
-}
-
-inline std::ostream& operator<<(std::ostream& os, const PeerVerdict& v) {
-  return os << v.agreement << "; noise (ours, Mitsuba's): mean " << 100 * v.ours.mean << " %, " << 100 * v.peer.mean
-            << " %, median block " << 100 * v.ours.median_block << " %, " << 100 * v.peer.median_block << " %; bounds "
-            << 100 * v.mean_bound << " %, " << 100 * v.block_bound << " %";
+inline SeededRender mitsuba_seeds(const std::filesystem::path& xml, int width, int height, int max_depth) {
+  return [xml, width, height, max_depth](int spp, int first_seed, int seeds) {
+    auto images = mitsuba_renders(xml, width, height, spp, max_depth, first_seed, seeds);
+    if (!images) throw std::runtime_error("Mitsuba 3 cannot load " + xml.string());
+    return std::move(*images);
+  };
 }
 
 }  // namespace clr::test

@@ -318,11 +318,12 @@ TEST_F(Loader, TexturesReadAsNumbersFollowMitsubasEval1) {
       <float name="color0" value="0.05"/><float name="color1" value="0.3"/>
       <transform name="to_uv"><scale x="2" y="2"/></transform></texture>)";
   };
-  const auto s = scene::load_scene(scene(
-      R"(<shape type="rectangle"><bsdf type="roughconductor">)" + named("alpha") + R"(</bsdf></shape>
+  const auto s = scene::load_scene(scene(R"(<shape type="rectangle"><bsdf type="roughconductor">)" + named("alpha") +
+                                         R"(</bsdf></shape>
     <shape type="rectangle"><bsdf type="roughconductor"><float name="alpha" value="0.05"/></bsdf></shape>
     <shape type="rectangle"><bsdf type="roughconductor"><float name="alpha" value="0.3"/></bsdf></shape>
-    <shape type="rectangle"><bsdf type="principled">)" + named("roughness") + R"(</bsdf></shape>
+    <shape type="rectangle"><bsdf type="principled">)" +
+                                         named("roughness") + R"(</bsdf></shape>
     <shape type="rectangle"><bsdf type="principled"><float name="roughness" value="0.05"/></bsdf></shape>
     <shape type="rectangle"><bsdf type="principled"><float name="roughness" value="0.3"/></bsdf></shape>
     <shape type="rectangle"><bsdf type="mask"><rgb name="opacity" value="0.2 0.5 0.9"/><bsdf type="diffuse"/>
@@ -333,7 +334,7 @@ TEST_F(Loader, TexturesReadAsNumbersFollowMitsubasEval1) {
       <bsdf type="diffuse"><rgb name="reflectance" value="1"/></bsdf></bsdf></shape>)"));
   const Vec3 wo = glm::normalize(Vec3(0.3f, 0.1f, 1.0f)), wi = glm::normalize(Vec3(-0.2f, 0.25f, 1.0f));
   const auto f = [&](int shape, const Vec2& uv) { return s.bsdf(s.shapes[shape]).eval(uv, wo, wi).x; };
-  const Vec2 same(0.1f, 0.1f), different(0.3f, 0.1f);  // through to_uv: (0.2, 0.2) and (0.6, 0.2)
+  const Vec2 same(0.1f, 0.1f), different(0.3f, 0.1f);          // through to_uv: (0.2, 0.2) and (0.6, 0.2)
   ASSERT_GT(std::fabs(f(1, same) / f(2, same) - 1.0f), 0.1f);  // the two roughnesses differ visibly here
   for (const int textured : {0, 3}) {
     EXPECT_FLOAT_EQ(f(textured, same), f(textured + 2, same)) << "shape " << textured << ": colour 1, 0.3";

@@ -47,7 +47,8 @@ Microfacet read_rough_microfacet(Context& ctx, const Props& p, std::optional<Rou
     textured = RoughnessTextures{a, a};
   } else {
     if (!p.has("alpha_u") || !p.has("alpha_v")) p.node.fail("give both 'alpha_u' and 'alpha_v'");
-    textured = RoughnessTextures{ctx.scalar_texture(p, "alpha_u", Rgb(0.1f)), ctx.scalar_texture(p, "alpha_v", Rgb(0.1f))};
+    textured =
+        RoughnessTextures{ctx.scalar_texture(p, "alpha_u", Rgb(0.1f)), ctx.scalar_texture(p, "alpha_v", Rgb(0.1f))};
   }
   if (!(textured->alpha_u.mean_1() > 0 && textured->alpha_v.mean_1() > 0)) p.node.fail("alpha must be positive");
   Microfacet mf = read_microfacet(p, true);  // the distribution

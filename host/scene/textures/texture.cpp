@@ -144,9 +144,7 @@ float Texture::eval_1(const TexturePoint& at) const {
   return channel_mean(c0_);
 }
 
-float Texture::mean_1() const {
-  return kind_ == Kind::bitmap ? luminance(bitmap_->mean) : channel_mean(mean());
-}
+float Texture::mean_1() const { return kind_ == Kind::bitmap ? luminance(bitmap_->mean) : channel_mean(mean()); }
 
 float Texture::texel_uv() const {
   if (kind_ != Kind::bitmap) return std::numeric_limits<float>::infinity();
