@@ -34,14 +34,7 @@ namespace {
 namespace fs = std::filesystem;
 constexpr int kSize = 48;  // pixels on the longer side
 
-// Differences between the two renderers that are understood (docs/scenes.md, "The corpus peer's bounds"): the scene's
-// channel means are judged around `expected` (ours / Mitsuba's − 1 per channel, as measured) with the same bound as any
-// other scene.
-struct KnownDifference {
-  std::string_view dir;
-  std::array<double, 3> expected;
-  std::string_view reason;
-};
+// Differences between the two renderers that are understood (docs/scenes.md, "The corpus peer's bounds").
 constexpr KnownDifference kKnown[] = {
     // Measured 2026-11-28 at 48², 10 seeds × 1024 spp a side (σ 0.05 %); with Mitsuba's quadrature in ours the scene
     // agrees within 0.03 %, as does the scene with a smooth `plastic` for the rough one (−0.13 %).
@@ -52,12 +45,6 @@ constexpr KnownDifference kKnown[] = {
      "interface), so its diffuse lobe is 2.7 % darker than ours; at alpha -> 0 Mitsuba's roughplastic loses 2 % in a "
      "furnace where its smooth plastic does not"},
 };
-
-const KnownDifference* known_difference(std::string_view dir) {
-  for (const auto& k : kKnown)
-    if (!k.dir.empty() && k.dir == dir) return &k;
-  return nullptr;
-}
 
 void append_row(const std::string& dir, int width, int height, const SeedVerdict& v, double seconds) {
   const char* file = std::getenv("CLRADIOSITY_PEER_TSV");
@@ -97,7 +84,7 @@ TEST_P(MitsubaCorpusPeer, AgreesWithinNoise) {
   const auto start = std::chrono::steady_clock::now();
   const geometry::Geometry geometry(scene);
   const PeerPlan plan;
-  const KnownDifference* known = known_difference(c.dir);
+  const KnownDifference* known = known_difference(kKnown, c.dir);
   const SeedVerdict v = run_peer(our_seeds(geometry, width, height), mitsuba_seeds(xml, width, height, scene.max_depth),
                                  plan, known ? known->expected : std::array<double, 3>{});
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

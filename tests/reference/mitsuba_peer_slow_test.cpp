@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -27,13 +28,25 @@ struct Case {
 
 void PrintTo(const Case& c, std::ostream* os) { *os << c.scene; }
 
+// Measured 2026-11-28 apart from the test's own seeds: 48², seeds 101–104 × 1024 spp a side, σ 0.03 % (the test's
+// seeds at 128 spp gave +0.06 / +0.27 / +0.51 %, σ 0.05 %); docs/scenes.md, "Sun and sky".
+constexpr KnownDifference kKnown[] = {
+    {"sunsky.xml",
+     {0.0019, 0.0039, 0.0062},
+     "the sun: its power integrated from the Hosek-Wilkie authors' data, where Mitsuba's table of the same integral "
+     "sits 0.35-0.39 % lower"},
+};
+
 void expect_agreement(const std::filesystem::path& file, const Case& c) {
   const auto scene = scene::load_scene(file);
   const geometry::Geometry geometry(scene);
   const PeerPlan plan;
+  const KnownDifference* known = known_difference(kKnown, c.scene);
   const SeedVerdict v =
-      run_peer(our_seeds(geometry, c.width, c.height), mitsuba_seeds(file, c.width, c.height, scene.max_depth), plan);
+      run_peer(our_seeds(geometry, c.width, c.height), mitsuba_seeds(file, c.width, c.height, scene.max_depth), plan,
+               known ? known->expected : std::array<double, 3>{});
   std::cout << c.scene << " vs Mitsuba 3, " << c.width << "x" << c.height << ": " << v << "\n";
+  if (known) std::cout << "  known difference: " << known->reason << "\n";
   if (v.widest_bound() > plan.target_bound)
     std::cout << "  the bound stays above " << 100 * plan.target_bound << " % within the cap (" << plan.max_spp
               << " spp, " << plan.final_seconds << " s of processor time): a 0.5 % bias could pass here\n";
