@@ -37,8 +37,9 @@ struct Camera {
   // (px, py) in pixel units: (0, 0) the top-left corner of the image, (width, height) the bottom-right. `lens`
   // in [0, 1)² chooses the point on a thin lens' aperture (its centre at (0.5, 0.5)); pinholes ignore it.
   Ray ray(float px, float py, const Vec2& lens = Vec2(0.5f)) const;
-  // A sample of pixel (x, y): its film position, drawn from the filter around the pixel's centre, and the weight it
-  // carries into the pixel's mean. The box filter (radius 0.5) draws two numbers from `rng`, as x + u, y + v.
+  // A sample of pixel (x, y): its film position, drawn from the filter around the pixel's centre and kept on the
+  // film, and the weight it carries into the pixel's mean. The box filter (radius 0.5) draws two numbers from `rng`, as
+  // x + u, y + v.
   struct PixelSample {
     float px, py, weight;
   };

@@ -37,10 +37,16 @@ class PixelFilter {
   };
   // One axis' offset: one number from `rng` for the box and the tent, a few on average for the others.
   Sample sample(Pcg32& rng) const;
+  // The same with the offset kept within [lo, hi]: where the film's edge cuts the filter. Mitsuba draws samples
+  // only inside the film, so a pixel at its edge converges to ∫ f L / ∫ f over the part of the filter inside the
+  // film; drawing ∝ |f| over that part, with weights ±∫|f| / ∫f of it, converges to the same.
+  Sample sample(Pcg32& rng, float lo, float hi) const;
 
  private:
   Type type_;
   float radius_, parameter_, b_, c_;
+  float negative_scale(float lo, float hi) const;  // ∫|f| / ∫f over [lo, hi]: 1 without negative lobes
+
   float max_abs_ = 1;         // max |f|: the rejection's bound
   float negative_scale_ = 1;  // ∫|f| / ∫f, the weight's magnitude
 };

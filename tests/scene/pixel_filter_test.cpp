@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "common/error.hpp"
@@ -30,13 +33,15 @@ std::vector<PixelFilter> every_filter() {
           PixelFilter(Type::lanczos, 3.0f),  PixelFilter(Type::lanczos, 2.0f)};
 }
 
-// ∫ g f over [-r, r] (Simpson, double precision).
+// ∫ g f over [-r, r], or over [lo, hi] within it (Simpson, double precision).
 template <class G>
-double integrate(const PixelFilter& f, G g, int n = 1 << 14) {
-  const double r = f.radius(), h = 2 * r / n;
+double integrate(const PixelFilter& f, G g, double lo = -1e30, double hi = 1e30, int n = 1 << 14) {
+  lo = std::max(lo, -double(f.radius()));
+  hi = std::min(hi, double(f.radius()));
+  const double h = (hi - lo) / n;
   double s = 0;
   for (int i = 0; i <= n; ++i) {
-    const double x = -r + h * i, w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
+    const double x = lo + h * i, w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
     s += w * g(x) * double(f.eval(float(x)));
   }
   return s * h / 3;
@@ -124,6 +129,32 @@ TEST(PixelFilter, WeightedMeanIsTheFiltersAverage) {
         f.type() == Type::mitchell || f.type() == Type::catmullrom || f.type() == Type::lanczos;
     EXPECT_EQ(signed_weights, has_negative_lobes);
   }
+}
+
+// Cut by the film's edge (Mitsuba draws samples only inside the film): the offsets stay within [lo, hi] and their
+// weighted mean converges to ∫ f g / ∫ f over that part of the filter, an edge pixel's value in Mitsuba's splatting.
+TEST(PixelFilter, AtTheFilmsEdgeTheMeanIsOverThePartInside) {
+  const auto g = [](double x) { return 1.0 + x + 0.7 * x * x + (x > 0.3 ? 2.0 : 0.0); };
+  for (const PixelFilter& f : every_filter())
+    for (const auto& [lo, hi] : {std::pair{-0.5f, 7.5f}, std::pair{-1.5f, 0.5f}, std::pair{-3.5f, 0.9f}}) {
+      SCOPED_TRACE(f.describe() + " within [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      const double want = integrate(f, g, lo, hi) / integrate(
+                                                        f, [](double) { return 1.0; }, lo, hi);
+      Pcg32 rng(13, 7);
+      constexpr int kSamples = 200000;
+      double sum = 0, sum2 = 0;
+      bool inside = true;
+      for (int i = 0; i < kSamples; ++i) {
+        const auto s = f.sample(rng, lo, hi);
+        inside = inside && s.offset >= lo && s.offset <= hi;
+        const double v = s.weight * g(s.offset);
+        sum += v;
+        sum2 += v * v;
+      }
+      const double mean = sum / kSamples, sigma = std::sqrt((sum2 / kSamples - mean * mean) / kSamples);
+      EXPECT_TRUE(inside);
+      EXPECT_NEAR(mean, want, 5 * sigma + 1e-4 * std::fabs(want));
+    }
 }
 
 class PixelFilterScenes : public SceneFiles {

@@ -25,9 +25,11 @@ Vec2 Camera::tan_half_fov() const {
 }
 
 Camera::PixelSample Camera::pixel_sample(std::size_t x, std::size_t y, Pcg32& rng) const {
-  const PixelFilter::Sample sx = filter.sample(rng);
-  const PixelFilter::Sample sy = filter.sample(rng);
-  return {float(x) + 0.5f + sx.offset, float(y) + 0.5f + sy.offset, sx.weight * sy.weight};
+  // Positions stay on the film, as Mitsuba's: a pixel at its edge averages what its filter covers there.
+  const float cx = float(x) + 0.5f, cy = float(y) + 0.5f;
+  const PixelFilter::Sample sx = filter.sample(rng, -cx, float(width) - cx);
+  const PixelFilter::Sample sy = filter.sample(rng, -cy, float(height) - cy);
+  return {cx + sx.offset, cy + sy.offset, sx.weight * sy.weight};
 }
 
 namespace {
