@@ -46,8 +46,8 @@ float BlendBsdf::roughness() const {
 namespace clr::scene::loader {
 std::shared_ptr<const Bsdf> read_blendbsdf(Context& ctx, const Props& p) {
   const Texture weight = ctx.scalar_texture(p, "weight", Rgb(0.5f));
-  const Rgb mean = weight.mean();
-  if (!(mean.x >= 0 && mean.x <= 1)) p.node.fail("weight must lie in [0, 1]");
+  const float mean = weight.mean_1();
+  if (!(mean >= 0 && mean <= 1)) p.node.fail("weight must lie in [0, 1]");
   auto nested = ctx.nested_bsdfs(p);
   if (nested.size() != 2) p.node.fail("blendbsdf expects exactly two nested BSDFs");
   return std::make_shared<BlendBsdf>(weight, nested[0], nested[1]);

@@ -692,7 +692,7 @@ class Loader final : public loader::Context {
     auto e = gathering_uses(uses, [&] { return reader(*this, p); });
     if (!e.area && !uses.empty())
       n.fail("mesh_attribute texture '" + uses.begin()->second.texture +
-             "' on an emitter that is no shape's: only shapes " + "have mesh attributes");
+             "' on an emitter that is no shape's: only shapes have mesh attributes");
     // Every Mitsuba emitter takes a share of the light samples; clradiosity chooses its own.
     p.ignore({"sampling_weight"});
     p.check_all_used();
