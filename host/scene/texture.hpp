@@ -108,6 +108,7 @@ class Texture {
 
  private:
   Rgb eval_varying(const TexturePoint& at) const;
+  bool in_same_halves(const TexturePoint& at) const;  // a checkerboard's cell: u and v in the same half
 
   Kind kind_;
   Rgb c0_, c1_{0.0f};

@@ -115,11 +115,17 @@ Rgb Texture::eval_varying(const TexturePoint& at) const {
     const MeshAttribute* a = at.mesh ? at.mesh->attribute(attribute_) : nullptr;
     return a ? c0_ * a->eval(at.prim, at.mesh->triangles[at.prim], at.barycentric) : Rgb(0.0f);
   }
-  const Vec2 uv = to_uv_.apply(at.uv);
-  if (kind_ == Kind::bitmap) return bilinear_ ? bitmap_->bilinear(uv, wrap_) : bitmap_->nearest(uv, wrap_);
+  if (kind_ == Kind::bitmap) {
+    const Vec2 uv = to_uv_.apply(at.uv);
+    return bilinear_ ? bitmap_->bilinear(uv, wrap_) : bitmap_->nearest(uv, wrap_);
+  }
   // Mitsuba's checkerboard: colour 0 where the fractional parts of u and v lie in the same half.
-  const bool mu = uv.x - std::floor(uv.x) > 0.5f, mv = uv.y - std::floor(uv.y) > 0.5f;
-  return mu == mv ? c0_ : c1_;
+  return in_same_halves(at) ? c0_ : c1_;
+}
+
+bool Texture::in_same_halves(const TexturePoint& at) const {
+  const Vec2 uv = to_uv_.apply(at.uv);
+  return (uv.x - std::floor(uv.x) > 0.5f) == (uv.y - std::floor(uv.y) > 0.5f);
 }
 
 namespace {
@@ -133,11 +139,8 @@ float Texture::eval_1(const TexturePoint& at) const {
       return channel_mean(c0_);
     case Kind::bitmap:
       return luminance(eval_varying(at));
-    case Kind::checkerboard: {
-      const Vec2 uv = to_uv_.apply(at.uv);
-      const bool mu = uv.x - std::floor(uv.x) > 0.5f, mv = uv.y - std::floor(uv.y) > 0.5f;
-      return channel_mean(mu != mv ? c0_ : c1_);
-    }
+    case Kind::checkerboard:
+      return channel_mean(in_same_halves(at) ? c1_ : c0_);
     case Kind::mesh_attribute:
       return eval_varying(at).x;
   }
