@@ -357,7 +357,8 @@ int main(int argc, char** argv) {
             rows, nn::to_string(g.plan()).c_str(), gf, 100 * gf / peak, blas, gf / blas);
     }
   }
-  // The I-Module's MLP (59 → 3 × 64 → 32) at inference: the fused one-launch kernel against per-layer GEMMs.
+  // The I-Module's MLP (59 → 3 × 64 → 32), inference and a training forward + backward (its hash grid's 8 input
+  // columns' gradient kept, as the I-Module asks): the fused kernels against per-layer GEMMs.
   nlohmann::json small_json;
   {
     const std::size_t rows = quick ? 16384 : 65536;
@@ -367,23 +368,41 @@ int main(int argc, char** argv) {
     mc.width = 64;
     mc.hidden_layers = 3;
     mc.outputs = 32;
-    std::vector<float> x(rows * mc.inputs);
+    std::vector<float> x(rows * mc.inputs), d(rows * mc.outputs);
     for (auto& v : x) v = u(rng);
-    cl::Buffer<float> dx(ctx, std::span<const float>(x)), out(ctx, rows * mc.outputs);
-    double ms[2];
+    for (auto& v : d) v = u(rng);
+    cl::Buffer<float> dx(ctx, std::span<const float>(x)), dy(ctx, std::span<const float>(d)),
+        out(ctx, rows * mc.outputs), d_in(ctx, rows * mc.inputs);
+    double infer_ms[2], step_ms[2];
     for (int fused = 1; fused >= 0; --fused) {
       mc.small_path = fused == 1 ? nn::MlpConfig::SmallPath::Fused : nn::MlpConfig::SmallPath::Layers;
       nn::Mlp m(ctx, g, mc, 1);
-      auto run = [&] {
+      nn::MlpContext mctx;
+      auto infer = [&] {
         m.infer(dx, rows, out);
         ctx.finish();
       };
-      run();
-      ms[fused] = 1000 * best_of(5, run);
+      auto step = [&] {
+        m.forward_train(dx, rows, mctx);
+        m.backward(mctx, dy, &d_in, 8);
+        ctx.finish();
+      };
+      infer();
+      step();
+      infer_ms[fused] = 1000 * best_of(5, infer);
+      step_ms[fused] = 1000 * best_of(5, step);
     }
-    small_json = {{"rows", rows}, {"fused_ms", ms[1]}, {"layers_ms", ms[0]}};
-    if (!json)
-      std::printf("I-Module MLP inference, %zu rows: fused %.2f ms, per-layer GEMMs %.2f ms\n", rows, ms[1], ms[0]);
+    small_json = {{"rows", rows},
+                  {"fused_ms", infer_ms[1]},
+                  {"layers_ms", infer_ms[0]},
+                  {"fused_step_ms", step_ms[1]},
+                  {"layers_step_ms", step_ms[0]}};
+    if (!json) {
+      std::printf("I-Module MLP inference, %zu rows: fused %.2f ms, per-layer GEMMs %.2f ms\n", rows, infer_ms[1],
+                  infer_ms[0]);
+      std::printf("I-Module MLP forward + backward, %zu rows: fused %.2f ms, per-layer GEMMs %.2f ms\n", rows,
+                  step_ms[1], step_ms[0]);
+    }
   }
 
   // One N-Module training step (docs/design.md §2) at the batch the device trains with.

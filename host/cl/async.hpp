@@ -68,12 +68,14 @@ class PinnedMemory {
     CLR_CL_CHECK(status);
     mapped_ = static_cast<T*>(p);
   }
-  // Unmapping is enqueued behind the last transfer through the mapping (in-order queue), and the runtime keeps the
-  // buffer until the commands using it are done, so nothing waits here. A destructor does not throw: a failure (only
-  // at teardown of a broken context) is ignored.
+  // Unmapping is enqueued behind the last transfer through the mapping (its event: a download runs on the transfer
+  // queue), and the runtime keeps the buffer until the commands using it are done, so nothing waits here. A
+  // destructor does not throw: a failure (only at teardown of a broken context) is ignored.
   void release() noexcept {
     if (!pinned_) return;
-    if (mapped_) clEnqueueUnmapMemObject(ctx_->queue(), pinned_.get(), mapped_, 0, nullptr, nullptr);
+    const cl_event last = last_.get();
+    if (mapped_)
+      clEnqueueUnmapMemObject(ctx_->queue(), pinned_.get(), mapped_, last ? 1 : 0, last ? &last : nullptr, nullptr);
     mapped_ = nullptr;
     last_ = EventHandle();
     pinned_ = MemHandle();
@@ -106,7 +108,9 @@ class PinnedUpload : public PinnedMemory<T> {
 };
 
 // The reverse stream: a read the host starts, does other work, and collects later (the pipelined step's guided
-// directions, drawn on the device ahead of the step that traces them).
+// directions, drawn on the device ahead of the step that traces them). The read runs on the context's transfer
+// queue behind a marker of the main queue, so the kernels enqueued after it do not wait for it (on a GPU the copy
+// engine overlaps them). The other side of that: a later command that overwrites `src` must come after wait().
 template <typename T>
 class PinnedDownload : public PinnedMemory<T> {
  public:
@@ -116,17 +120,23 @@ class PinnedDownload : public PinnedMemory<T> {
     this->reserve_host(ctx, std::max<std::size_t>(count, 1), CL_MEM_WRITE_ONLY, CL_MAP_READ);
     count_ = count;
     if (count == 0) return;
-    cl_event done = nullptr;
-    CLR_CL_CHECK(
-        clEnqueueReadBuffer(ctx.queue(), src.get(), CL_FALSE, 0, count * sizeof(T), this->mapped_, 0, nullptr, &done));
+    cl_event marker = nullptr, done = nullptr;
+    CLR_CL_CHECK(clEnqueueMarkerWithWaitList(ctx.queue(), 0, nullptr, &marker));
+    const EventHandle after(marker);
+    // Another queue may wait only on events of a flushed one.
+    CLR_CL_CHECK(clFlush(ctx.queue()));
+    CLR_CL_CHECK(clEnqueueReadBuffer(ctx.transfer_queue(), src.get(), CL_FALSE, 0, count * sizeof(T), this->mapped_, 1,
+                                     &marker, &done));
+    CLR_CL_CHECK(clFlush(ctx.transfer_queue()));
     this->last_ = EventHandle(done);
-    ctx.record(done);
   }
   // Waits for the read started last; its values stay valid until the next start.
   std::span<const T> result() {
     this->wait();
     return {this->mapped_, count_};
   }
+  // Waits for the read started last, before a command that overwrites its source.
+  void wait() { PinnedMemory<T>::wait(); }
 
  private:
   std::size_t count_ = 0;

@@ -30,7 +30,19 @@ Context::~Context() {
   for (const Timed& t : timed_) t.release();
 }
 
-void Context::finish() const { CLR_CL_CHECK(clFinish(queue_.get())); }
+cl_command_queue Context::transfer_queue() const {
+  if (!transfer_) {
+    cl_int status = CL_SUCCESS;
+    transfer_ = QueueHandle(clCreateCommandQueue(context_.get(), device_.device, 0, &status));
+    CLR_CL_CHECK(status);
+  }
+  return transfer_.get();
+}
+
+void Context::finish() const {
+  CLR_CL_CHECK(clFinish(queue_.get()));
+  if (transfer_) CLR_CL_CHECK(clFinish(transfer_.get()));
+}
 
 const Program& Context::program(const std::vector<std::string>& files, const std::string& options) {
   std::string key = options + "|";

@@ -26,7 +26,11 @@ class Context {
   const DeviceInfo& device() const { return device_; }
   cl_context get() const { return context_.get(); }
   cl_command_queue queue() const { return queue_.get(); }
-  void finish() const;
+  // A second in-order queue for reads the main queue's later kernels need not wait for, so that a GPU's copy engine
+  // runs them beside its compute (cl::PinnedDownload); made on first use. Its commands follow the main queue's by
+  // events, and are left out of the device's busy time below (they overlap it).
+  cl_command_queue transfer_queue() const;
+  void finish() const;  // both queues
 
   // The program made of these kernel files (concatenated in order) built with these options; built once per
   // (files, options) and cached for the life of the context. Build failures throw with the build log.
@@ -62,6 +66,7 @@ class Context {
   DeviceInfo device_;
   ContextHandle context_;
   QueueHandle queue_;
+  mutable QueueHandle transfer_;
   std::map<std::string, std::unique_ptr<Program>> programs_;
   std::size_t programs_built_ = 0;
   std::uint64_t bytes_in_use_ = 0;

@@ -46,27 +46,34 @@ Mlp::Mlp(cl::Context& ctx, Gemm& gemm, MlpConfig config, std::uint64_t seed)
       c.output_activation == OutputActivation::None) {
     const std::string options = programs::mlp_fused_options(unsigned(c.inputs), unsigned(c.width),
                                                             unsigned(c.hidden_layers), unsigned(c.outputs));
-    fused_.emplace(ctx.program(programs::mlp_fused, options).kernel("mlp_fused_forward"));
+    auto& program = ctx.program(programs::mlp_fused, options);
+    fused_.emplace(Fused{program.kernel("mlp_fused_forward"), program.kernel("mlp_fused_backward"),
+                         program.kernel("mlp_fused_bias_reduce")});
   }
   grads_ = cl::Buffer<float>(ctx, total);
   grads_.fill(0.0f);
   if (fused_ && c.small_path == MlpConfig::SmallPath::Probe) {
-    // A training forward of a batch-sized input (activations kept, as the I-Module's step runs it) on both paths.
+    // A training forward and backward of a batch-sized input (as the I-Module's step runs them) on both paths.
     ProbeCache cache(ctx);
     const std::string shape = std::to_string(c.inputs) + "-" + std::to_string(c.width) + "x" +
                               std::to_string(c.hidden_layers) + "-" + std::to_string(c.outputs);
     constexpr std::size_t rows = 16384;
-    std::optional<cl::Buffer<float>> x;
+    std::optional<cl::Buffer<float>> x, dy;
     MlpContext probe;
     const auto time_of = [&] {
       if (!x) x.emplace(ctx, std::span<const float>(std::vector<float>(rows * c.inputs, 0.1f)));
-      return ProbeCache::time_best_of_three(ctx, [&] { forward_train(*x, rows, probe); });
+      if (!dy) dy.emplace(ctx, std::span<const float>(std::vector<float>(rows * c.outputs, 0.01f)));
+      return ProbeCache::time_best_of_three(ctx, [&] {
+        forward_train(*x, rows, probe);
+        backward(probe, *dy);
+      });
     };
-    const double fused_s = cache.seconds("mlp fused " + shape, time_of);
+    const double fused_s = cache.seconds("mlp fused step " + shape, time_of);
     auto kept = std::move(fused_);
     fused_.reset();
-    const double layers_s = cache.seconds("mlp layers " + shape + " " + to_string(gemm.plan()), time_of);
+    const double layers_s = cache.seconds("mlp layers step " + shape + " " + to_string(gemm.plan()), time_of);
     if (fused_s <= layers_s) fused_ = std::move(kept);
+    grads_.fill(0.0f);  // the probe's backward passes accumulated into it
   }
 }
 
@@ -84,8 +91,9 @@ std::size_t Mlp::chunk_rows(std::size_t rows) const {
 
 cl::Buffer<float>& Mlp::workspace(std::size_t i, std::size_t count) {
   // Fixed slots (resizing the vector would invalidate references callers hold): 0 dZ of the output layer,
-  // 1-2 backward ping-pong, 3-4 inference ping-pong, 5 bias-gradient partial sums.
-  if (workspace_.size() < 6) workspace_.resize(6);
+  // 1-2 backward ping-pong, 3-4 inference ping-pong, 5 bias-gradient partial sums, 6-9 the fused backward's
+  // hidden layers' dZ.
+  if (workspace_.size() < 10) workspace_.resize(10);
   if (workspace_[i].size() < count) {
     workspace_[i] = cl::Buffer<float>();  // free before allocating: keeps the peak at one copy
     workspace_[i] = cl::Buffer<float>(*ctx_, count);
@@ -142,7 +150,8 @@ void Mlp::fused_forward(const cl::Buffer<float>& input, std::size_t x_row, std::
   auto h = [&](std::size_t l) -> const cl::Buffer<float>& {
     return hidden && l < H ? (*hidden)[hidden_base + l] : out;  // unused slots get any valid buffer
   };
-  fused_->args(u32(rows), input, u32(x_row), params_, out, u32(out_row), hidden ? 1u : 0u, h(0), h(1), h(2), h(3))
+  fused_->forward
+      .args(u32(rows), input, u32(x_row), params_, out, u32(out_row), hidden ? 1u : 0u, h(0), h(1), h(2), h(3))
       .launch((rows + kRowsPerItem - 1) / kRowsPerItem, 16);
 }
 
@@ -170,6 +179,11 @@ void Mlp::backward(MlpContext& c, const cl::Buffer<float>& d_output, cl::Buffer<
   if (!c.input) throw std::logic_error("mlp: backward without forward_train");
   const std::size_t H = config_.hidden_layers, W = config_.width, O = config_.outputs, I = config_.inputs;
   const bool abs_out = config_.output_activation == OutputActivation::Abs;
+  if (fused_) {
+    for (std::size_t r0 = 0, ci = 0; r0 < c.rows; r0 += c.chunk_rows, ++ci)
+      fused_backward(c, r0, ci, std::min(c.chunk_rows, c.rows - r0), d_output, d_input, d_input_cols);
+    return;
+  }
   auto& dz_out = workspace(0, c.chunk_rows * O);
   for (std::size_t r0 = 0, ci = 0; r0 < c.rows; r0 += c.chunk_rows, ++ci) {
     const std::size_t cr = std::min(c.chunk_rows, c.rows - r0);
@@ -195,6 +209,31 @@ void Mlp::backward(MlpContext& c, const cl::Buffer<float>& d_output, cl::Buffer<
       dz = dx;
     }
   }
+}
+
+void Mlp::fused_backward(MlpContext& c, std::size_t r0, std::size_t ci, std::size_t rows,
+                         const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input, std::size_t d_input_cols) {
+  constexpr std::size_t kRowsPerItem = 4, kGroup = 16;  // RPI and GROUP in kernels/mlp_fused.cl
+  const std::size_t H = config_.hidden_layers, W = config_.width, O = config_.outputs, I = config_.inputs;
+  const std::size_t items = (rows + kRowsPerItem - 1) / kRowsPerItem, groups = (items + kGroup - 1) / kGroup;
+  const std::size_t bias_cols = H * W + O;
+  auto& partial = workspace(5, groups * bias_cols);
+  // Each hidden layer's dZ in slots 6.. (workspace()'s fixed slots), the same chunk rows as the saved activations.
+  auto dz = [&](std::size_t l) -> cl::Buffer<float>& { return workspace(6 + std::min(l, H - 1), c.chunk_rows * W); };
+  auto saved = [&](std::size_t l) -> const cl::Buffer<float>& { return c.hidden[ci * H + std::min(l, H - 1)]; };
+  const std::size_t cols = d_input ? (d_input_cols ? std::min(d_input_cols, I) : I) : 0;
+  fused_->backward
+      .args(u32(rows), d_output, u32(r0), params_, saved(0), saved(1), saved(2), saved(3), dz(0), dz(1), dz(2), dz(3),
+            u32(cols), d_input ? *d_input : d_output, u32(r0), partial)
+      .launch(groups * kGroup, kGroup);
+  // dW_l += X_lᵀ · dZ_l, X_l the layer's input (the batch's input or the previous hidden layer's output).
+  gemm_->run(Op::T, Op::N, W, O, rows, 1.0f, mat(saved(H - 1), W), mat(d_output, O, r0 * O), 1.0f,
+             mat(grads_, O, weight_offset(H)));
+  for (std::size_t l = 0; l < H; ++l) {
+    const MatRef x = l == 0 ? mat(*c.input, I, r0 * I) : mat(saved(l - 1), W);
+    gemm_->run(Op::T, Op::N, fan_in(l), W, rows, 1.0f, x, mat(dz(l), W), 1.0f, mat(grads_, W, weight_offset(l)));
+  }
+  fused_->bias_reduce.args(u32(groups), partial, grads_).launch(bias_cols, kGroup);
 }
 
 void Mlp::infer(const cl::Buffer<float>& input, std::size_t rows, cl::Buffer<float>& output, std::size_t out_row) {

@@ -37,10 +37,11 @@ struct MlpConfig {
   float output_init = 1;   // the output layer's initial weights' scale (NetworkConfig::output_init)
   WeightInit init = WeightInit::He;
   std::size_t max_chunk_rows = 65536;  // further capped by the device's max allocation
-  // Small networks where the one-launch kernel (kernels/mlp_fused.cl) applies — width and outputs multiples of 16
-  // and ≤ 64, 1-4 hidden layers, no output activation (the I-Module) — take it or the per-layer GEMMs: Probe times
-  // both once per device and shape (nn/probe_cache.hpp) and keeps the faster: which one wins differs between CPUs
-  // (docs/results/benchmarks.md).
+  // Small networks where the one-launch kernels (kernels/mlp_fused.cl) apply — width and outputs multiples of 16
+  // and ≤ 64, 1-4 hidden layers, no output activation (the I-Module) — take them (the forward in one launch; the
+  // backward's dZ chain, dL/dinput and bias sums in one, then a dW GEMM a layer) or the per-layer GEMMs: Probe
+  // times a training forward and backward on both once per device and shape (nn/probe_cache.hpp) and keeps the
+  // faster: which one wins differs between CPUs (docs/results/benchmarks.md).
   enum class SmallPath { Probe, Fused, Layers } small_path = SmallPath::Probe;
 };
 
@@ -99,9 +100,14 @@ class Mlp {
   std::vector<cl::Buffer<float>> workspace_;
   void fused_forward(const cl::Buffer<float>& input, std::size_t x_row, std::size_t rows, cl::Buffer<float>& out,
                      std::size_t out_row, const std::vector<cl::Buffer<float>>* hidden, std::size_t hidden_base);
+  void fused_backward(MlpContext& ctx, std::size_t r0, std::size_t ci, std::size_t rows,
+                      const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input, std::size_t d_input_cols);
 
+  struct Fused {
+    cl::Kernel forward, backward, bias_reduce;
+  };
   cl::Kernel act_backward_, bias_reduce_, abs_, scale_;
-  std::optional<cl::Kernel> fused_;
+  std::optional<Fused> fused_;
 };
 
 }  // namespace clr::nn

@@ -65,6 +65,7 @@ void IncidentSampling::draw(VmfMixture& lobes, const TrainingBatch& batch, std::
   const std::size_t M = batch.points, N = batch.samples;
   guide_uniforms(M, N, seed, step, uniforms_host_, batch.first_point);
   put(uniforms_up_, uniforms_, uniforms_host_);
+  ahead_read_.wait();  // a read of guided_ on the transfer queue finishes before the draw overwrites it
   cl::reserve(*ctx_, guided_, M * N * 3);
   lobes.sample(uniforms_, N, guided_);
 }
