@@ -1,6 +1,7 @@
 // Analytic scenes (docs/design.md §8): radiance known in closed form everywhere.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <iostream>
 #include <numeric>
 
@@ -43,6 +44,35 @@ TEST_P(Enclosure, RadianceIsEmissionOverOneMinusAlbedo) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Albedos, Enclosure, ::testing::Values(0.3f, 0.5f, 0.8f));
+
+// The bounces after the first in a closed diffuse sphere lit by a thin tube: uniform, ρ/π · E_ind with E_ind from
+// the tube's power alone (scenes/tube-in-sphere.xml). The thin tube under a ceiling differs from Mitsuba by
+// 0.2–0.4 % (docs/scenes.md); here, with the tube far from the wall, the closed form decides which side is off.
+TEST(TubeInSphere, BouncesAfterTheFirstAddTheClosedFormIrradiance) {
+  const double rho = 0.8, R = 5, r = 0.03, length = 1.2;
+  const auto scene = scene::load_scene(kScenes / "tube-in-sphere.xml");
+  const geometry::Geometry geometry(scene);
+  reference::RenderOptions opt;
+  opt.spp = 2048;
+  opt.seed = 1;
+  const auto full = reference::render(geometry, opt);
+  opt.max_depth = 2;
+  opt.seed = 2;
+  const auto direct = reference::render(geometry, opt);
+  const std::vector<bool> all(std::size_t(full.width) * std::size_t(full.height), true);
+  // The tube (radiance 1, no caps) sends Φ = π·A_t to the wall. The wall's light that returns to the tube is lost:
+  // A_t/A of it where the wall's radiance is uniform, which it is only after the first bounce, so the closed form
+  // is good to a fraction of A_t/A = 0.07 % (measured 0.99957 ± 0.0002 of it, and Mitsuba 3 the same).
+  const double A = 4 * M_PI * R * R, At = 2 * M_PI * r * length, phi = M_PI * At;
+  const double leaving = rho * phi / (1 - rho * (1 - At / A));
+  const double want = rho / M_PI * leaving * (1 - At / A) / A;
+  const double got = channel_mean(full, all) - channel_mean(direct, all);
+  std::cout << "tube in sphere: full - depth 2 = " << got << ", closed form " << want << " (ratio " << got / want
+            << ")\n";
+  // 2 × 1024 × 2048 paths: seeds 1, 3, 5, 9 gave 1.0001, 0.9991, 0.9978, 0.9990 (a spread of 0.09 %); the bound is
+  // four and a half of those.
+  EXPECT_NEAR(got / want, 1.0, 0.004);
+}
 
 TEST(SphereCap, ScatteredRadianceIsUniform) {
   const float rho = 0.5f, le = 1.0f;
