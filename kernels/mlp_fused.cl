@@ -115,7 +115,7 @@ __kernel void mlp_fused_backward(uint rows, __global const float* dY, uint dy_ro
     live[r] = row0 + r < rows;
     rr[r] = min(row0 + r, rows - 1);
   }
-  float d[RPI][MAXW], x[RPI][MAXW];
+  float d[RPI][MAXW], x[RPI][WIDTH];  // d: a layer's dZ (OUT wide at the output); x: the next one's dY
   for (uint r = 0; r < RPI; ++r)
     for (uint v = 0; v < OV; ++v)
       vstore16(live[r] ? vload16(v, dY + (dy_row + rr[r]) * OUT) : (float16)(0.0f), v, d[r]);

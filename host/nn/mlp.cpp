@@ -11,7 +11,8 @@
 namespace clr::nn {
 namespace {
 constexpr unsigned kBwdNone = 0, kBwdRelu = 1, kBwdAbs = 2;  // BWD_* in kernels/mlp.cl
-}
+constexpr std::size_t kFusedRows = 4, kFusedGroup = 16;      // RPI and GROUP in kernels/mlp_fused.cl
+}  // namespace
 
 Mlp::Mlp(cl::Context& ctx, Gemm& gemm, MlpConfig config, std::uint64_t seed)
     : ctx_(&ctx),
@@ -145,14 +146,13 @@ void Mlp::forward_train(const cl::Buffer<float>& input, std::size_t rows, MlpCon
 
 void Mlp::fused_forward(const cl::Buffer<float>& input, std::size_t x_row, std::size_t rows, cl::Buffer<float>& out,
                         std::size_t out_row, const std::vector<cl::Buffer<float>>* hidden, std::size_t hidden_base) {
-  constexpr std::size_t kRowsPerItem = 4;  // RPI in kernels/mlp_fused.cl
   const std::size_t H = config_.hidden_layers;
   auto h = [&](std::size_t l) -> const cl::Buffer<float>& {
     return hidden && l < H ? (*hidden)[hidden_base + l] : out;  // unused slots get any valid buffer
   };
   fused_->forward
       .args(u32(rows), input, u32(x_row), params_, out, u32(out_row), hidden ? 1u : 0u, h(0), h(1), h(2), h(3))
-      .launch((rows + kRowsPerItem - 1) / kRowsPerItem, 16);
+      .launch((rows + kFusedRows - 1) / kFusedRows, kFusedGroup);
 }
 
 MlpContext Mlp::forward_train(const cl::Buffer<float>& input, std::size_t rows) {
@@ -213,9 +213,8 @@ void Mlp::backward(MlpContext& c, const cl::Buffer<float>& d_output, cl::Buffer<
 
 void Mlp::fused_backward(MlpContext& c, std::size_t r0, std::size_t ci, std::size_t rows,
                          const cl::Buffer<float>& d_output, cl::Buffer<float>* d_input, std::size_t d_input_cols) {
-  constexpr std::size_t kRowsPerItem = 4, kGroup = 16;  // RPI and GROUP in kernels/mlp_fused.cl
   const std::size_t H = config_.hidden_layers, W = config_.width, O = config_.outputs, I = config_.inputs;
-  const std::size_t items = (rows + kRowsPerItem - 1) / kRowsPerItem, groups = (items + kGroup - 1) / kGroup;
+  const std::size_t items = (rows + kFusedRows - 1) / kFusedRows, groups = (items + kFusedGroup - 1) / kFusedGroup;
   const std::size_t bias_cols = H * W + O;
   auto& partial = workspace(5, groups * bias_cols);
   // Each hidden layer's dZ in slots 6.. (workspace()'s fixed slots), the same chunk rows as the saved activations.
@@ -225,7 +224,7 @@ void Mlp::fused_backward(MlpContext& c, std::size_t r0, std::size_t ci, std::siz
   fused_->backward
       .args(u32(rows), d_output, u32(r0), params_, saved(0), saved(1), saved(2), saved(3), dz(0), dz(1), dz(2), dz(3),
             u32(cols), d_input ? *d_input : d_output, u32(r0), partial)
-      .launch(groups * kGroup, kGroup);
+      .launch(groups * kFusedGroup, kFusedGroup);
   // dW_l += X_lᵀ · dZ_l, X_l the layer's input (the batch's input or the previous hidden layer's output).
   gemm_->run(Op::T, Op::N, W, O, rows, 1.0f, mat(saved(H - 1), W), mat(d_output, O, r0 * O), 1.0f,
              mat(grads_, O, weight_offset(H)));
@@ -233,7 +232,7 @@ void Mlp::fused_backward(MlpContext& c, std::size_t r0, std::size_t ci, std::siz
     const MatRef x = l == 0 ? mat(*c.input, I, r0 * I) : mat(saved(l - 1), W);
     gemm_->run(Op::T, Op::N, fan_in(l), W, rows, 1.0f, x, mat(dz(l), W), 1.0f, mat(grads_, W, weight_offset(l)));
   }
-  fused_->bias_reduce.args(u32(groups), partial, grads_).launch(bias_cols, kGroup);
+  fused_->bias_reduce.args(u32(groups), partial, grads_).launch(bias_cols, kFusedGroup);
 }
 
 void Mlp::infer(const cl::Buffer<float>& input, std::size_t rows, cl::Buffer<float>& output, std::size_t out_row) {
