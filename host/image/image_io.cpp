@@ -10,6 +10,7 @@
 #include <stb_image_write.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -18,13 +19,11 @@
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "image/image.hpp"
+#include "image/srgb.hpp"
 
 namespace clr::image {
 namespace fs = std::filesystem;
 namespace {
-
-float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
-float linear_to_srgb(float c) { return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f; }
 
 // The file's bytes, read whole (images are bounded by kMaxPixels and their own size by the disk).
 std::string file_bytes(const fs::path& path) {
@@ -272,12 +271,19 @@ Image read_ldr(const fs::path& path, bool srgb) {
   if (!data) throw InputError("cannot read image " + path.string() + ": " + stbi_failure_reason());
   check_not_starved(source, path);
   Image img(w, h);
-  const float max = wide ? 65535.0f : 255.0f;
-  for (std::size_t i = 0; i < img.rgb.size(); ++i) {
-    const float v =
-        (wide ? static_cast<const unsigned short*>(data.get())[i] : static_cast<const unsigned char*>(data.get())[i]) /
-        max;
-    img.rgb[i] = srgb ? srgb_to_linear(v) : v;
+  if (wide) {
+    const auto* v = static_cast<const unsigned short*>(data.get());
+    for (std::size_t i = 0; i < img.rgb.size(); ++i)
+      img.rgb[i] = srgb ? srgb_to_linear(v[i] / 65535.0f) : v[i] / 65535.0f;
+  } else {
+    // A table of the 256 values: a pow a texel was 0.5 of the 1.8 CPU seconds that loading Wooden Staircase took.
+    static const std::array<float, 256> from_srgb = [] {
+      std::array<float, 256> t{};
+      for (int b = 0; b < 256; ++b) t[b] = srgb_to_linear(float(b) / 255.0f);
+      return t;
+    }();
+    const auto* v = static_cast<const unsigned char*>(data.get());
+    for (std::size_t i = 0; i < img.rgb.size(); ++i) img.rgb[i] = srgb ? from_srgb[v[i]] : v[i] / 255.0f;
   }
   return img;
 }

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "common/error.hpp"
+#include "image/srgb.hpp"
 #include "support/run_cli.hpp"
 #include "support/shared_scenes.hpp"
 
@@ -58,6 +59,22 @@ TEST(ImageIo, PngIsSrgbEncodedAndReadsBack) {
   EXPECT_NEAR(raw.pixel(2, 0)[0], 1.0f, 1e-6);
   const Image lin = read_ldr(dir.path / "a.png", true);
   EXPECT_NEAR(lin.pixel(1, 0)[1], 0.2158605f, 1e-5);  // sRGB 128/255 decoded
+}
+
+// Every byte value, decoded through the loader's table, against the sRGB curve in double precision.
+TEST(ImageIo, EveryEightBitValueDecodesByTheSrgbCurve) {
+  TempDir dir;
+  Image img(256, 1);
+  for (int b = 0; b < 256; ++b)
+    for (int c = 0; c < 3; ++c) img.pixel(b, 0)[c] = srgb_to_linear(float(b) / 255.0f);
+  write_png(dir.path / "ramp.png", img);
+  const Image raw = read_ldr(dir.path / "ramp.png", false);
+  const Image lin = read_ldr(dir.path / "ramp.png", true);
+  for (int b = 0; b < 256; ++b) {
+    ASSERT_EQ(raw.pixel(b, 0)[2], float(b) / 255.0f) << "byte " << b << " did not survive the PNG";
+    const double v = b / 255.0, want = v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(lin.pixel(b, 0)[c], want, 1e-6 * want + 1e-9) << "byte " << b;
+  }
 }
 
 TEST(ImageIo, MissingAndCorruptFilesAreInputErrors) {

@@ -10,6 +10,7 @@
 
 #include "common/error.hpp"
 #include "common/input_file.hpp"
+#include "image/srgb.hpp"
 #include "scene/camera.hpp"
 #include "scene/xml/spectrum.hpp"
 
@@ -147,10 +148,6 @@ std::vector<float> Node::numbers(const char* attribute) const {
   return out;
 }
 
-namespace {
-float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
-}  // namespace
-
 Rgb Node::color() const {
   const std::string t = tag();
   if (t != "rgb" && t != "srgb" && t != "spectrum" && t != "float") fail("expected a colour (rgb, spectrum or float)");
@@ -163,7 +160,7 @@ Rgb Node::color() const {
     if (value.size() != 7 || std::sscanf(value.c_str(), "#%2x%2x%2x%n", &r, &g, &b, &consumed) != 3 || consumed != 7)
       fail("malformed colour '" + value + "' (expected #rrggbb)");
     c = Rgb(float(r), float(g), float(b)) / 255.0f;
-    for (int i = 0; i < 3; ++i) c[i] = srgb_to_linear(c[i]);
+    for (int i = 0; i < 3; ++i) c[i] = image::srgb_to_linear(c[i]);
     return c;
   }
   if (t == "spectrum" && value.find(':') != std::string::npos) return spectrum();
@@ -177,7 +174,7 @@ Rgb Node::color() const {
     return spectrum_to_rgb({kCieFirst, kCieLast}, {v[0], v[0]}, false, false);
   Rgb c = v.size() == 1 ? Rgb(v[0]) : Rgb(v[0], v[1], v[2]);
   if (t == "srgb")
-    for (int i = 0; i < 3; ++i) c[i] = srgb_to_linear(c[i]);
+    for (int i = 0; i < 3; ++i) c[i] = image::srgb_to_linear(c[i]);
   return c;
 }
 
