@@ -1,5 +1,6 @@
 // clradiosity residual SCENE.xml --model RUN_DIR [--points P --samples S] [--sampling bsdf|guide] [--nee on|off]
 //                     [--json]
+// Prints the means over all points, then over each material's (JSON: "materials").
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -63,21 +64,41 @@ Command add_residual_command(CLI::App& app) {
             const bool nee = opt->nee.empty() ? config.nee : opt->nee == "on";
             const auto r = radiosity::measure_residual(ctx, geometry, *network, opt->points, opt->samples, opt->seed,
                                                        guide.get(), fraction, nee);
-            if (opt->json)
+            nlohmann::json materials = nlohmann::json::array();
+            for (std::size_t k = 0; k < r.by_material.size(); ++k)
+              if (const auto& part = r.by_material[k]; part.points)
+                materials.push_back({{"material", k},
+                                     {"roughness", scene.materials[k]->roughness()},
+                                     {"points", part.points},
+                                     {"residual", part.mean},
+                                     {"rhs_variance", part.rhs_variance}});
+            if (opt->json) {
               std::cout << nlohmann::json{{"residual", r.mean},
                                           {"standard_error", r.standard_error},
                                           {"rhs_variance", r.rhs_variance},
                                           {"sampling", opt->sampling},
                                           {"nee", nee},
                                           {"points", r.points},
-                                          {"samples", opt->samples}}
+                                          {"samples", opt->samples},
+                                          {"materials", materials}}
                                .dump()
                         << "\n";
-            else
-              std::printf(
-                  "residual %.6g ± %.2g, one-sample RHS variance %.6g (P = %zu, S = %zu, %s sampling, NEE %s)\n",
-                  r.mean, r.standard_error, r.rhs_variance, r.points, opt->samples, opt->sampling.c_str(),
-                  nee ? "on" : "off");
+              return 0;
+            }
+            std::printf("residual %.6g ± %.2g, one-sample RHS variance %.6g (P = %zu, S = %zu, %s sampling, NEE %s)\n",
+                        r.mean, r.standard_error, r.rhs_variance, r.points, opt->samples, opt->sampling.c_str(),
+                        nee ? "on" : "off");
+            if (materials.size() > 1)
+              for (const auto& m : materials) {
+                // Each material's share of the points and of the variance's total: which surfaces carry it.
+                const double points = m["points"], v = m["rhs_variance"];
+                std::printf(
+                    "  material %zu (roughness %.3g): %.1f %% of the points, residual %.4g, variance %.4g "
+                    "(%.1f %% of the total)\n",
+                    std::size_t(m["material"]), float(m["roughness"]), 100 * points / double(r.points),
+                    double(m["residual"]), v,
+                    r.rhs_variance > 0 ? 100 * points * v / (double(r.points) * r.rhs_variance) : 0.0);
+              }
             return 0;
           }};
 }

@@ -36,6 +36,7 @@ void estimate_rhs(cl::Context& ctx, const geometry::Geometry& geometry, nn::Netw
     const auto pdf = incident.pdf.read();
     for (std::size_t m = 0; m < M; ++m) {
       RhsPoint point;
+      point.material = batch.surface[m].material;
       for (std::size_t ch = 0; ch < 3; ++ch) {
         // A sample's term with its light sample (whose mean is in `direct`), so that their variance counts too.
         double s1 = 0, s2 = 0, light = 0;
@@ -71,17 +72,28 @@ ResidualStats measure_residual(cl::Context& ctx, const geometry::Geometry& geome
                                float bsdf_fraction, bool next_event) {
   double sum = 0, sum_sq = 0, variance = 0;
   std::size_t done = 0;
+  ResidualStats s;
+  s.by_material.resize(geometry.scene().materials.size());
   estimate_rhs(ctx, geometry, network, points, samples, seed, guide, bsdf_fraction, next_event, [&](const RhsPoint& p) {
-    double r2 = 0;
+    double r2 = 0, v = 0;
     for (std::size_t ch = 0; ch < 3; ++ch) {
       r2 += std::pow(p.prediction[ch] - p.mean[ch], 2) / 3.0;
-      variance += p.variance[ch] / 3.0;
+      v += p.variance[ch] / 3.0;
     }
     sum += r2;
     sum_sq += r2 * r2;
+    variance += v;
     ++done;
+    auto& part = s.by_material.at(p.material);
+    part.mean += r2;
+    part.rhs_variance += v;
+    ++part.points;
   });
-  ResidualStats s;
+  for (auto& part : s.by_material)
+    if (part.points) {
+      part.mean /= double(part.points);
+      part.rhs_variance /= double(part.points);
+    }
   s.points = done;
   s.mean = sum / double(done);
   s.rhs_variance = variance / double(done);

@@ -6,7 +6,9 @@
 // from the one-sample mixture training uses, so that the variance of one sample's estimate of the right-hand side
 // (`rhs_variance`) shows what the guide does for the estimator with the N-Module held fixed.
 #include <array>
+#include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "nn/network.hpp"
 #include "radiosity/training_batch.hpp"
@@ -18,12 +20,20 @@ struct ResidualStats {
   double standard_error = 0;
   double rhs_variance = 0;  // mean over points and RGB of the variance of a one-sample RHS estimate
   std::size_t points = 0;
+  // The same means over the points on each of the scene's materials (Scene::materials' order; points 0 where the
+  // surface sampler put none): where a sampling strategy gains or loses.
+  struct Part {
+    std::size_t points = 0;
+    double mean = 0, rhs_variance = 0;
+  };
+  std::vector<Part> by_material;
 };
 
 // One point's S-sample estimate of the right-hand side: the model's prediction, the mean of the per-sample terms
 // and their sample variance, per RGB channel.
 struct RhsPoint {
   std::array<double, 3> prediction, mean, variance;
+  std::uint32_t material = 0;  // index into Scene::materials
 };
 
 // Visits P random (x, ω_o) points' estimates, in chunks that bound memory whatever P·S is. Points depend only on

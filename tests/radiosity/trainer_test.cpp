@@ -113,6 +113,22 @@ TEST_F(Training, CornellBoxErrorAndResidualFallWithSteps) {
   EXPECT_LT(mape[1], mape[0]);
   EXPECT_LT(mape[2], mape[1]);
   EXPECT_LT(residual[2], residual[0]);
+
+  // The means over each material's points partition the whole: weighted by their points they give the totals.
+  const auto r = radiosity::measure_residual(ctx(), geometry, trainer.network(), 2048, 16, 5);
+  ASSERT_EQ(r.by_material.size(), scene.materials.size());
+  std::size_t points = 0, parts = 0;
+  double mean = 0, variance = 0;
+  for (const auto& part : r.by_material) {
+    points += part.points;
+    parts += part.points > 0;
+    mean += double(part.points) * part.mean;
+    variance += double(part.points) * part.rhs_variance;
+  }
+  EXPECT_EQ(points, r.points);
+  EXPECT_GE(parts, 3u);  // the white walls, the red one and the green one at least
+  EXPECT_NEAR(mean / double(points), r.mean, 1e-9 * r.mean);
+  EXPECT_NEAR(variance / double(points), r.rhs_variance, 1e-9 * r.rhs_variance);
 }
 
 TEST_F(Training, ResumeContinuesTheLossCurve) {
