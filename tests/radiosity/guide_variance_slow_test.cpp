@@ -10,7 +10,8 @@
 //
 // Without next-event estimation, the estimator this test was made for: with it the guide learns the remainder the
 // light samples leave, and trained alone here it does not cut that remainder's variance (2026-11-29: BSDF sampling
-// 11.8; the mixture 13.5 untrained, 13.3, 12.7, 26.4 after 200, 500, 1000 steps) — open, docs/method.md.
+// 11.8; the mixture 13.5 untrained, 13.3, 12.7, 26.4 after 200, 500, 1000 steps): docs/method.md, "What the guide
+// has left to cut once NEE carries the direct light".
 #include <gtest/gtest.h>
 
 #include <filesystem>
